@@ -1,0 +1,29 @@
+# polder_add_library(NAME ALIAS_NAME SOURCES...): one module target with the project's
+# warnings, C++20, a polder:: alias and the module's include/ as its public headers.
+function(polder_add_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES" ${ARGN})
+  add_library(${name} ${ARG_SOURCES})
+  add_library(polder::${name} ALIAS ${name})
+  set_target_properties(${name} PROPERTIES OUTPUT_NAME polder_${name} EXPORT_NAME ${name}
+                        POSITION_INDEPENDENT_CODE ON)
+  target_compile_features(${name} PUBLIC cxx_std_20)
+  target_include_directories(${name} PUBLIC
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  polder_target_defaults(${name})
+  set_property(GLOBAL APPEND PROPERTY POLDER_INSTALL_TARGETS ${name})
+  if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  endif()
+endfunction()
+
+# Warnings and sanitizers for targets the project builds (never forced on a host).
+function(polder_target_defaults name)
+  if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+    target_compile_options(${name} PRIVATE -Wall -Wextra -Wpedantic -Wno-missing-field-initializers)
+  endif()
+  if(POLDER_SANITIZE)
+    target_compile_options(${name} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer)
+    target_link_options(${name} PUBLIC -fsanitize=address,undefined)
+  endif()
+endfunction()

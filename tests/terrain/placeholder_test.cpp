@@ -1,0 +1,1 @@
+// placeholder; delete when adding tests
