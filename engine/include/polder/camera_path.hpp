@@ -1,0 +1,58 @@
+// Recorded and built-in camera flights, for the flyover and for reproducible benchmarks.
+#pragma once
+
+#include <functional>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include <polder/result.hpp>
+
+namespace polder {
+
+struct CameraPose {
+  double timeS = 0.0;
+  glm::dvec3 position{0.0};
+  double yawDeg = 0.0;
+  double pitchDeg = 0.0;
+};
+
+// Poses in time order; in between, positions interpolate linearly and angles along the
+// shorter arc. Before the first pose and after the last, the path holds still (a closed
+// loop wraps instead).
+class CameraPath {
+ public:
+  // At least one pose, times finite and strictly increasing.
+  static Result<CameraPath> fromPoses(std::vector<CameraPose> poses, bool closedLoop = false);
+
+  // Text: one pose per line, "t x y z yaw pitch" (seconds, metres, degrees); '#' starts a
+  // comment. Errors name the line.
+  static Result<CameraPath> parse(std::string_view text);
+
+  CameraPose at(double timeS) const;
+  double durationS() const { return m_poses.back().timeS - m_poses.front().timeS; }
+  bool closedLoop() const { return m_closedLoop; }
+  const std::vector<CameraPose>& poses() const { return m_poses; }
+
+ private:
+  std::vector<CameraPose> m_poses;
+  bool m_closedLoop = false;
+};
+
+struct FlyoverOptions {
+  double altitudeM = 300.0;      // above the highest ground near the path
+  double speedMps = 150.0;
+  double pitchDeg = -15.0;       // looking ahead and slightly down
+  double radiusFraction = 0.32;  // of the terrain's extent, around its centre
+  int samples = 720;             // poses around the loop
+};
+
+// A smooth closed loop over a terrain of extent [0, extentX] x [0, extentY]: an ellipse
+// around the centre, at `altitudeM` above the ground it flies over (the ground is taken as
+// the highest point within a few hundred metres ahead and behind, smoothed, so the flight
+// clears peaks without bobbing over every bump).
+CameraPath makeFlyoverLoop(double extentX, double extentY, const std::function<double(double x, double y)>& groundHeight,
+                           const FlyoverOptions& options = {});
+
+}  // namespace polder
