@@ -1,0 +1,85 @@
+// PNG chunk layout and CRC-32 as in the PNG specification (ISO/IEC 15948), sections 5.3, D.
+#include "png_check.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace polder::terrain::io {
+namespace {
+
+constexpr std::array<std::uint32_t, 256> makeCrcTable() {
+  std::array<std::uint32_t, 256> table{};
+  for (std::uint32_t n = 0; n < 256; ++n) {
+    std::uint32_t c = n;
+    for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+    table[n] = c;
+  }
+  return table;
+}
+
+constexpr std::array<std::uint32_t, 256> kCrcTable = makeCrcTable();
+
+std::uint32_t updateCrc(std::uint32_t crc, const unsigned char* bytes, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) crc = kCrcTable[(crc ^ bytes[i]) & 0xffu] ^ (crc >> 8);
+  return crc;
+}
+
+std::uint32_t bigEndian32(const unsigned char* bytes) {
+  return std::uint32_t(bytes[0]) << 24 | std::uint32_t(bytes[1]) << 16 | std::uint32_t(bytes[2]) << 8 | bytes[3];
+}
+
+bool isChunkType(const unsigned char* type) {
+  for (int i = 0; i < 4; ++i)
+    if (!((type[i] >= 'A' && type[i] <= 'Z') || (type[i] >= 'a' && type[i] <= 'z'))) return false;
+  return true;
+}
+
+}  // namespace
+
+Status checkPngStructure(const std::filesystem::path& path, std::uint64_t fileLength) {
+  constexpr std::uint64_t kSignatureBytes = 8;
+  constexpr std::uint32_t kMaxChunkLength = 0x7fffffffu;  // the specification's limit
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return makeError(ErrorKind::Io, "cannot open the file");
+  in.seekg(std::streamoff(kSignatureBytes));
+
+  std::vector<unsigned char> buffer(1 << 16);
+  std::uint64_t offset = kSignatureBytes;
+  while (true) {
+    unsigned char header[8];
+    if (offset + sizeof header > fileLength || !in.read(reinterpret_cast<char*>(header), sizeof header))
+      return makeError(ErrorKind::InvalidData, "truncated PNG: the file ends at byte " + std::to_string(fileLength) +
+                                                   " before the IEND chunk");
+    const std::uint32_t length = bigEndian32(header);
+    const std::string type(reinterpret_cast<const char*>(header + 4), 4);
+    if (length > kMaxChunkLength || !isChunkType(header + 4))
+      return makeError(ErrorKind::InvalidData, "corrupt PNG: the chunk header at byte " + std::to_string(offset) +
+                                                   " is not valid");
+    if (offset + 12 + length > fileLength)
+      return makeError(ErrorKind::InvalidData, "truncated PNG: chunk " + type + " at byte " + std::to_string(offset) +
+                                                   " needs " + std::to_string(length + 12) + " bytes, the file ends at byte " +
+                                                   std::to_string(fileLength));
+    std::uint32_t crc = updateCrc(0xffffffffu, header + 4, 4);
+    for (std::uint32_t left = length; left > 0;) {
+      const std::size_t part = std::min<std::size_t>(left, buffer.size());
+      if (!in.read(reinterpret_cast<char*>(buffer.data()), std::streamsize(part)))
+        return makeError(ErrorKind::Io, "cannot read chunk " + type + " at byte " + std::to_string(offset));
+      crc = updateCrc(crc, buffer.data(), part);
+      left -= std::uint32_t(part);
+    }
+    unsigned char stored[4];
+    if (!in.read(reinterpret_cast<char*>(stored), 4))
+      return makeError(ErrorKind::Io, "cannot read chunk " + type + " at byte " + std::to_string(offset));
+    if (bigEndian32(stored) != (crc ^ 0xffffffffu))
+      return makeError(ErrorKind::InvalidData, "corrupt PNG: chunk " + type + " at byte " + std::to_string(offset) +
+                                                   " fails its CRC check");
+    if (type == "IEND") return {};
+    offset += 12 + std::uint64_t(length);
+  }
+}
+
+}  // namespace polder::terrain::io

@@ -1,0 +1,149 @@
+// Makers of DEM files for the reader tests: images through OpenImageIO, GeoTIFFs through
+// libtiff (OpenImageIO 2.4 cannot write GeoTIFF tags), and raw bytes.
+#pragma once
+
+#include <OpenImageIO/imageio.h>
+#include <tiffio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace polder::test {
+
+struct ImageLayout {
+  int tile = 0;             // 0: scanlines (strips)
+  std::string compression;  // "" (the format's default), "none", "zip", "lzw", ...
+};
+
+// Writes width x height pixels of `channels` values of `type`, north row first.
+inline void writeImage(const std::filesystem::path& path, int width, int height, int channels, OIIO::TypeDesc type,
+                       const void* pixels, const ImageLayout& layout = {}) {
+  OIIO::ImageSpec spec(width, height, channels, type);
+  if (layout.tile) spec.tile_width = spec.tile_height = layout.tile;
+  if (!layout.compression.empty()) spec.attribute("compression", layout.compression);
+  if (channels == 4) spec.alpha_channel = 3;
+  spec.attribute("oiio:UnassociatedAlpha", 1);
+  auto output = OIIO::ImageOutput::create(path.string());
+  ASSERT_TRUE(output) << OIIO::geterror();
+  ASSERT_TRUE(output->open(path.string(), spec)) << output->geterror();
+  ASSERT_TRUE(output->write_image(type, pixels)) << output->geterror();
+  ASSERT_TRUE(output->close()) << output->geterror();
+}
+
+template <class T>
+void writeImage(const std::filesystem::path& path, int width, int height, int channels, const std::vector<T>& pixels,
+                const ImageLayout& layout = {}) {
+  ASSERT_EQ(pixels.size(), std::size_t(width) * std::size_t(height) * std::size_t(channels));
+  writeImage(path, width, height, channels, OIIO::TypeDesc(OIIO::BaseTypeFromC<T>::value), pixels.data(), layout);
+}
+
+// GeoTIFF tags to write; empty ones are left out.
+struct GeoTags {
+  std::vector<double> pixelScale;
+  std::vector<double> tiepoint;
+  std::vector<std::uint16_t> geoKeys;  // whole directory: header and entries
+  std::string nodata;
+};
+
+// The directory for these (key, value) pairs.
+inline std::vector<std::uint16_t> geoKeyDirectory(std::initializer_list<std::pair<std::uint16_t, std::uint16_t>> keys) {
+  std::vector<std::uint16_t> directory = {1, 1, 0, std::uint16_t(keys.size())};
+  for (auto [id, value] : keys) directory.insert(directory.end(), {id, 0, 1, value});
+  return directory;
+}
+
+// A one-channel TIFF of T (int16, uint16, float), north row first, with GeoTIFF tags;
+// tiled (16 x 16) and deflate-compressed when asked.
+template <class T>
+void writeGeoTiff(const std::filesystem::path& path, int width, int height, const std::vector<T>& samples,
+                  const GeoTags& tags, bool tiledCompressed = false) {
+  ASSERT_EQ(samples.size(), std::size_t(width) * std::size_t(height));
+  static const TIFFFieldInfo kFields[] = {
+      {33550, -1, -1, TIFF_DOUBLE, FIELD_CUSTOM, 1, 1, const_cast<char*>("ModelPixelScaleTag")},
+      {33922, -1, -1, TIFF_DOUBLE, FIELD_CUSTOM, 1, 1, const_cast<char*>("ModelTiepointTag")},
+      {34735, -1, -1, TIFF_SHORT, FIELD_CUSTOM, 1, 1, const_cast<char*>("GeoKeyDirectoryTag")},
+      {42113, -1, -1, TIFF_ASCII, FIELD_CUSTOM, 1, 0, const_cast<char*>("GDAL_NODATA")},
+  };
+  TIFF* tif = TIFFOpen(path.c_str(), "w");
+  ASSERT_NE(tif, nullptr);
+  ASSERT_EQ(TIFFMergeFieldInfo(tif, kFields, 4), 0);
+  const bool isFloat = std::is_floating_point_v<T>;
+  TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, std::uint32_t(width));
+  TIFFSetField(tif, TIFFTAG_IMAGELENGTH, std::uint32_t(height));
+  TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, 1);
+  TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, int(8 * sizeof(T)));
+  TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT,
+               isFloat ? SAMPLEFORMAT_IEEEFP : std::is_signed_v<T> ? SAMPLEFORMAT_INT : SAMPLEFORMAT_UINT);
+  TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
+  TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+  TIFFSetField(tif, TIFFTAG_COMPRESSION, tiledCompressed ? COMPRESSION_ADOBE_DEFLATE : COMPRESSION_NONE);
+  if (tiledCompressed) {
+    TIFFSetField(tif, TIFFTAG_PREDICTOR, isFloat ? PREDICTOR_FLOATINGPOINT : PREDICTOR_HORIZONTAL);
+    TIFFSetField(tif, TIFFTAG_TILEWIDTH, 16);
+    TIFFSetField(tif, TIFFTAG_TILELENGTH, 16);
+  } else {
+    TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, std::uint32_t(height));
+  }
+  if (!tags.pixelScale.empty()) TIFFSetField(tif, 33550, int(tags.pixelScale.size()), tags.pixelScale.data());
+  if (!tags.tiepoint.empty()) TIFFSetField(tif, 33922, int(tags.tiepoint.size()), tags.tiepoint.data());
+  if (!tags.geoKeys.empty()) TIFFSetField(tif, 34735, int(tags.geoKeys.size()), tags.geoKeys.data());
+  if (!tags.nodata.empty()) TIFFSetField(tif, 42113, tags.nodata.c_str());
+  if (tiledCompressed) {
+    std::vector<T> tile(16 * 16);
+    for (int ty = 0; ty < height; ty += 16)
+      for (int tx = 0; tx < width; tx += 16) {
+        std::fill(tile.begin(), tile.end(), T(0));
+        for (int y = ty; y < std::min(ty + 16, height); ++y)
+          for (int x = tx; x < std::min(tx + 16, width); ++x)
+            tile[std::size_t((y - ty) * 16 + (x - tx))] = samples[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+        ASSERT_GE(TIFFWriteTile(tif, tile.data(), std::uint32_t(tx), std::uint32_t(ty), 0, 0), 0);
+      }
+  } else {
+    for (int y = 0; y < height; ++y)
+      ASSERT_GE(TIFFWriteScanline(tif, const_cast<T*>(&samples[std::size_t(y) * std::size_t(width)]), std::uint32_t(y), 0), 0);
+  }
+  TIFFClose(tif);
+}
+
+// Bytes of a file, for truncating and corrupting.
+inline std::string readBytes(const std::filesystem::path& path) {
+  std::string bytes(std::filesystem::file_size(path), '\0');
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  const std::size_t read = std::fread(bytes.data(), 1, bytes.size(), file);
+  std::fclose(file);
+  bytes.resize(read);
+  return bytes;
+}
+
+// Stores values in the byte order asked for.
+template <class T>
+std::string storeSamples(const std::vector<T>& values, bool bigEndian) {
+  std::string bytes(values.size() * sizeof(T), '\0');
+  std::memcpy(bytes.data(), values.data(), bytes.size());
+  const std::uint16_t probe = 1;
+  const bool littleMachine = *reinterpret_cast<const std::uint8_t*>(&probe) == 1;
+  if (bigEndian == littleMachine)
+    for (std::size_t i = 0; i < bytes.size(); i += sizeof(T)) std::reverse(&bytes[i], &bytes[i] + sizeof(T));
+  return bytes;
+}
+
+// Independent reference for degree lengths: the usual WGS84 series.
+inline double metresPerDegreeLatitude(double phi) {
+  const double r = phi * M_PI / 180.0;
+  return 111132.954 - 559.822 * std::cos(2 * r) + 1.175 * std::cos(4 * r);
+}
+inline double metresPerDegreeLongitude(double phi) {
+  const double r = phi * M_PI / 180.0;
+  return 111412.84 * std::cos(r) - 93.5 * std::cos(3 * r) + 0.118 * std::cos(5 * r);
+}
+
+}  // namespace polder::test
