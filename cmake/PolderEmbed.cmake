@@ -7,7 +7,8 @@ function(polder_embed_files target namespace header)
     COMMAND ${CMAKE_COMMAND} -DOUTPUT=${_out} -DNAMESPACE=${namespace} "-DFILES=${ARGN}"
             -P ${PROJECT_SOURCE_DIR}/cmake/EmbedFiles.cmake
     DEPENDS ${ARGN} ${PROJECT_SOURCE_DIR}/cmake/EmbedFiles.cmake
-    COMMENT "Embedding ${header}")
+    COMMENT "Embedding ${header}"
+    VERBATIM)
   target_sources(${target} PRIVATE ${_out})
   target_include_directories(${target} PRIVATE $<BUILD_INTERFACE:${CMAKE_CURRENT_BINARY_DIR}/generated>)
 endfunction()
