@@ -1,0 +1,97 @@
+#include <polder/query/reference_renderer.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+#include <polder/terrain/normals.hpp>
+
+#include "grid_triangulation.hpp"
+
+namespace polder::query {
+
+namespace {
+
+std::uint8_t toByte(float value) { return std::uint8_t(std::lround(std::clamp(value, 0.0f, 1.0f) * 255.0f)); }
+
+void writePixel(RgbaImage& image, int x, int y, const glm::vec3& colour, std::uint8_t alpha) {
+  std::uint8_t* pixel = image.at(x, y);
+  pixel[0] = toByte(colour.r);
+  pixel[1] = toByte(colour.g);
+  pixel[2] = toByte(colour.b);
+  pixel[3] = alpha;
+}
+
+// The normal GL would interpolate at a hit: the hit triangle's vertex normals weighted by
+// the hit's barycentric coordinates.
+glm::vec3 interpolatedNormal(const terrain::Heightfield& field, const glm::dvec3& point) {
+  const detail::GridTriangle tri =
+      detail::gridTriangleAt(field.width, field.height, point.x / field.spacingX, point.y / field.spacingY);
+  glm::dvec3 normal(0.0);
+  for (std::size_t i = 0; i < 3; ++i) {
+    normal += tri.weights[i] * glm::dvec3(terrain::sampleNormal(field, tri.samples[i].x, tri.samples[i].y));
+  }
+  return glm::vec3(normal);
+}
+
+void renderRows(const QueryScene& scene, const terrain::Heightfield& field, const Camera& camera,
+                const TerrainStyle& style, std::atomic<int>& nextRow, RgbaImage& image) {
+  const glm::dvec3 forward = camera.forward();
+  std::vector<QueryRay> rays(std::size_t(camera.widthPx));
+  std::vector<std::optional<RayHit>> hits(rays.size());
+  for (int y = nextRow.fetch_add(1); y < camera.heightPx; y = nextRow.fetch_add(1)) {
+    for (int x = 0; x < camera.widthPx; ++x) {
+      const glm::dvec3 direction = camera.pixelRay(x + 0.5, y + 0.5);
+      // GL clips at eye depth, distance along forward: a ray's metres to the near and far
+      // planes grow as it leans away from the view axis.
+      const double depthPerMetre = glm::dot(direction, forward);
+      rays[std::size_t(x)] =
+          QueryRay{camera.position, direction, camera.nearM / depthPerMetre, camera.farM / depthPerMetre};
+    }
+    scene.raycastMany(rays, hits, RayCoherence::Coherent);
+    for (int x = 0; x < camera.widthPx; ++x) {
+      const std::optional<RayHit>& hit = hits[std::size_t(x)];
+      if (!hit) {
+        writePixel(image, x, y, style.skyColour, 0);
+        continue;
+      }
+      glm::vec3 normal = interpolatedNormal(field, hit->point);
+      // Next to no-data samples the vertex normals are undefined: use the face's.
+      if (!std::isfinite(normal.x + normal.y + normal.z)) normal = glm::vec3(hit->normal);
+      writePixel(image, x, y, shadeTerrain(style, normal, float(hit->point.z), float(hit->distance)), 255);
+    }
+  }
+}
+
+}  // namespace
+
+RgbaImage renderReference(const QueryScene& scene, const terrain::Heightfield& field, const Camera& camera,
+                          const TerrainStyle& style, int threads) {
+  RgbaImage image(std::max(camera.widthPx, 0), std::max(camera.heightPx, 0));
+  if (image.width == 0 || image.height == 0 || field.width < 2 || field.height < 2) return image;
+
+  int count = threads > 0 ? threads : int(std::thread::hardware_concurrency());
+  count = std::clamp(count, 1, image.height);
+  std::atomic<int> nextRow{0};
+  std::vector<std::thread> workers;
+  workers.reserve(std::size_t(count - 1));
+  for (int i = 1; i < count; ++i) {
+    try {
+      workers.emplace_back(renderRows, std::cref(scene), std::cref(field), std::cref(camera), std::cref(style),
+                           std::ref(nextRow), std::ref(image));
+    } catch (const std::system_error&) {
+      break;  // fewer threads: the rows left are taken by the ones that started and by this one
+    }
+  }
+  renderRows(scene, field, camera, style, nextRow, image);
+  for (std::thread& worker : workers) worker.join();
+  return image;
+}
+
+}  // namespace polder::query
