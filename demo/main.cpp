@@ -1,1 +1,36 @@
-int main() { return 0; }
+// polder — the terrain engine's command-line program.
+#include <cstdio>
+
+#include "cli_support.hpp"
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"Polder: crack-free, view-dependent terrain from raster DEMs of any size", "polder"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "polder 0.1.0");
+  int exitCode = 0;
+  polder::cli::addInfoCommand(app, exitCode);
+  polder::cli::addGenCommand(app, exitCode);
+  polder::cli::addRenderCommand(app, exitCode);
+  polder::cli::addQueryCommand(app, exitCode);
+  polder::cli::addFlyoverCommand(app, exitCode);
+  const auto isCommand = [&app](const char* name) {
+    for (const CLI::App* command : app.get_subcommands({}))
+      if (command->get_name() == name) return true;
+    return false;
+  };
+  if (argc > 1 && argv[1][0] != '-' && !isCommand(argv[1])) {
+    std::fprintf(stderr, "polder: error: unknown command '%s' (commands: info, gen, render, query, flyover; see --help)\n",
+                 argv[1]);
+    return polder::cli::kExitUsage;
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& success) {
+    return app.exit(success);
+  } catch (const CLI::ParseError& error) {
+    app.exit(error);
+    return polder::cli::kExitUsage;
+  }
+  return exitCode;
+}

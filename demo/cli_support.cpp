@@ -1,0 +1,139 @@
+#include "cli_support.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <unistd.h>
+
+#include <polder/terrain/dem_reader.hpp>
+#include <polder/terrain/dem_parsing.hpp>
+
+namespace polder::cli {
+
+void addDemArguments(CLI::App& command, DemArguments& arguments) {
+  command.add_option("dem", arguments.path, "DEM file (PNG, TIFF/GeoTIFF, EXR, .hgt, .r16/.raw/.f32)")->required();
+  command.add_option("--spacing", arguments.spacingM, "Sample spacing in metres (overrides the file)");
+  command.add_option("--zscale", arguments.zScale, "Metres per stored height unit")->capture_default_str();
+  command.add_option("--encoding", arguments.encoding, "Height encoding of RGB(A) images: auto|greyscale|terrain-rgb|terrarium")
+      ->capture_default_str();
+  command.add_option("--nodata", arguments.nodata, "auto (the file's no-data value and int16 -32768/-32767) or none")
+      ->capture_default_str();
+  command.add_option("--raw", arguments.raw, "Layout of a headerless raw file: WxH:u16|i16|f32[:le|be]");
+}
+
+Result<terrain::Dem> loadDem(const DemArguments& arguments) {
+  terrain::DemOptions options;
+  if (arguments.spacingM) {
+    if (!(*arguments.spacingM > 0.0) || !std::isfinite(*arguments.spacingM))
+      return makeError(ErrorKind::InvalidArgument, "--spacing must be a positive number of metres");
+    options.spacingM = arguments.spacingM;
+  }
+  if (!(arguments.zScale != 0.0) || !std::isfinite(arguments.zScale))
+    return makeError(ErrorKind::InvalidArgument, "--zscale must be a finite, non-zero number");
+  options.zScale = arguments.zScale;
+  auto encoding = terrain::parseHeightEncoding(arguments.encoding);
+  if (!encoding) return encoding.error();
+  options.encoding = *encoding;
+  if (arguments.nodata == "none") {
+    options.nodataEnabled = false;
+  } else if (arguments.nodata != "auto") {
+    return makeError(ErrorKind::InvalidArgument, "--nodata must be 'auto' or 'none', not '" + arguments.nodata + "'");
+  }
+  if (!arguments.raw.empty()) {
+    auto layout = terrain::parseRawLayout(arguments.raw);
+    if (!layout) return layout.error();
+    options.raw = *layout;
+  }
+  return terrain::readDem(arguments.path, options);
+}
+
+Result<std::vector<double>> parseNumbers(std::string_view text, std::size_t count, std::string_view what) {
+  std::vector<double> values;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string_view part = text.substr(start, comma - start);
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), value);
+    if (part.empty() || error != std::errc() || end != part.data() + part.size() || !std::isfinite(value))
+      return makeError(ErrorKind::InvalidArgument,
+                       std::string(what) + " expects " + std::to_string(count) + " comma-separated numbers, got '" +
+                           std::string(text) + "'");
+    values.push_back(value);
+    start = comma + 1;
+  }
+  if (values.size() != count)
+    return makeError(ErrorKind::InvalidArgument, std::string(what) + " expects " + std::to_string(count) +
+                                                     " comma-separated numbers, got " + std::to_string(values.size()));
+  return values;
+}
+
+Result<std::pair<int, int>> parseImageSize(std::string_view text) {
+  const auto x = text.find('x');
+  int width = 0, height = 0;
+  const bool parsed = x != std::string_view::npos &&
+                      std::from_chars(text.data(), text.data() + x, width).ptr == text.data() + x &&
+                      std::from_chars(text.data() + x + 1, text.data() + text.size(), height).ptr ==
+                          text.data() + text.size();
+  if (!parsed) return makeError(ErrorKind::InvalidArgument, "--size expects WxH, e.g. 1280x720, got '" + std::string(text) + "'");
+  if (width < 16 || height < 16 || width > 16384 || height > 16384)
+    return makeError(ErrorKind::InvalidArgument, "--size " + std::string(text) + " is out of range (16..16384 per side)");
+  return std::pair{width, height};
+}
+
+Result<Camera> parseCamera(std::string_view pose, double fovDeg, std::string_view size) {
+  auto numbers = parseNumbers(pose, 5, "--camera X,Y,Z,YAW,PITCH");
+  if (!numbers) return numbers.error();
+  if (!(fovDeg > 1.0 && fovDeg < 179.0))
+    return makeError(ErrorKind::InvalidArgument, "--fov must be between 1 and 179 degrees");
+  if (std::abs((*numbers)[4]) > 90.0)
+    return makeError(ErrorKind::InvalidArgument, "camera pitch must be within -90..90 degrees");
+  auto pixels = parseImageSize(size);
+  if (!pixels) return pixels.error();
+  Camera camera;
+  camera.position = {(*numbers)[0], (*numbers)[1], (*numbers)[2]};
+  camera.yawDeg = (*numbers)[3];
+  camera.pitchDeg = (*numbers)[4];
+  camera.fovYDeg = fovDeg;
+  camera.widthPx = pixels->first;
+  camera.heightPx = pixels->second;
+  return camera;
+}
+
+void fitClipPlanes(Camera& camera, const terrain::Heightfield& field) {
+  const double diagonal = std::hypot(field.extentX(), field.extentY());
+  const double heightRange = 1e4;  // generous: the camera may sit far above the relief
+  camera.farM = 2.0 * (diagonal + heightRange + glm::length(camera.position));
+  // A near plane proportional to the far plane keeps depth precision usable (24-bit depth).
+  camera.nearM = std::max(0.1, camera.farM * 2e-6);
+}
+
+int reportError(const Error& error) {
+  std::fprintf(stderr, "polder: error: %s\n", error.message.c_str());
+  return error.kind == ErrorKind::InvalidArgument ? kExitUsage : kExitData;
+}
+
+ProgressBar::ProgressBar(std::string label) : m_label(std::move(label)), m_interactive(::isatty(STDERR_FILENO) != 0) {}
+
+ProgressBar::~ProgressBar() { finish(); }
+
+void ProgressBar::update(float fraction) {
+  if (!m_interactive || m_finished) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - m_lastDraw < std::chrono::milliseconds(100) && fraction < 1.0f) return;
+  m_lastDraw = now;
+  constexpr int kWidth = 32;
+  const int filled = std::clamp(int(fraction * kWidth + 0.5f), 0, kWidth);
+  std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%", m_label.c_str(), filled, "################################",
+               kWidth - filled, "", int(std::clamp(fraction, 0.0f, 1.0f) * 100.0f + 0.5f));
+  std::fflush(stderr);
+}
+
+void ProgressBar::finish() {
+  if (m_finished) return;
+  m_finished = true;
+  if (m_interactive) std::fprintf(stderr, "\r%s [################################] 100%%\n", m_label.c_str());
+}
+
+}  // namespace polder::cli

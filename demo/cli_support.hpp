@@ -1,0 +1,70 @@
+// What every `polder` subcommand shares: DEM options, number lists, the camera, errors
+// turned into messages and exit codes, and a progress bar. The program talks; the library
+// does not.
+#pragma once
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include <polder/camera.hpp>
+#include <polder/result.hpp>
+#include <polder/terrain/dem.hpp>
+
+namespace polder::cli {
+
+// Exit codes: 0 success, 1 bad data or environment, 2 bad usage.
+inline constexpr int kExitData = 1;
+inline constexpr int kExitUsage = 2;
+
+struct DemArguments {
+  std::string path;
+  std::optional<double> spacingM;
+  double zScale = 1.0;
+  std::string encoding = "auto";
+  std::string nodata = "auto";
+  std::string raw;
+};
+
+// Adds the DEM positional argument and the options every DEM-reading command takes.
+void addDemArguments(CLI::App& command, DemArguments& arguments);
+
+// Reads the DEM the arguments describe.
+Result<terrain::Dem> loadDem(const DemArguments& arguments);
+
+// Parses "a,b,c" into exactly `count` finite numbers; `what` names the option in errors.
+Result<std::vector<double>> parseNumbers(std::string_view text, std::size_t count, std::string_view what);
+
+// Parses "WxH" (both 16..16384).
+Result<std::pair<int, int>> parseImageSize(std::string_view text);
+
+// A camera from "X,Y,Z,YAW,PITCH", a field of view and an image size "WxH".
+Result<Camera> parseCamera(std::string_view pose, double fovDeg, std::string_view size);
+
+// Near/far planes suited to a terrain of this extent seen from this camera.
+void fitClipPlanes(Camera& camera, const terrain::Heightfield& field);
+
+// Prints "polder: error: ..." and returns the exit code for this kind of error.
+int reportError(const Error& error);
+
+// A one-line progress bar on stderr, redrawn at most every 100 ms; silent when stderr is not
+// a terminal except for the final line.
+class ProgressBar {
+ public:
+  explicit ProgressBar(std::string label);
+  ~ProgressBar();
+  void update(float fraction);
+  void finish();
+
+ private:
+  std::string m_label;
+  bool m_interactive;
+  bool m_finished = false;
+  std::chrono::steady_clock::time_point m_lastDraw{};
+};
+
+}  // namespace polder::cli

@@ -1,0 +1,216 @@
+// polder flyover DEM: the flight over a terrain, in a window (GLFW) or rendered headless to
+// PNG frames (--headless --frames N --out DIR). The built-in path is a smooth closed loop
+// at --altitude metres above the ground, looking ahead and slightly down.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include <polder/camera_path.hpp>
+#include <polder/query/query_scene.hpp>
+#include <polder/terrain/image_writer.hpp>
+#if POLDER_HAVE_GLFW
+#include <polder/platform/glfw_window.hpp>
+#endif
+
+#include "cli_support.hpp"
+#include "commands.hpp"
+#include "terrain_drawing.hpp"
+
+namespace polder::cli {
+namespace {
+
+struct FlyoverArguments {
+  DemArguments dem;
+  bool headless = false;
+  int frames = 8;
+  double fps = 0.0;  // 0: spread the frames over one loop
+  std::string out = "out/flyover";
+  std::string size = "1280x720";
+  double fovDeg = 60.0;
+  FlyoverOptions flight;
+};
+
+struct Flight {
+  terrain::Dem dem;
+  std::unique_ptr<query::QueryScene> scene;
+  CameraPath path;
+  TerrainStyle style;
+};
+
+Result<Flight> prepareFlight(const FlyoverArguments& arguments) {
+  auto dem = loadDem(arguments.dem);
+  if (!dem) return dem.error();
+  auto scene = query::QueryScene::create(dem->field);
+  if (!scene) return scene.error();
+  const query::QueryScene& surface = **scene;
+  auto ground = [&surface](double x, double y) { return surface.height(x, y).value_or(0.0); };
+  CameraPath path = makeFlyoverLoop(dem->field.extentX(), dem->field.extentY(), ground, arguments.flight);
+  TerrainStyle style = makeTerrainStyle(*dem);
+  return Flight{std::move(*dem), std::move(*scene), std::move(path), style};
+}
+
+Camera cameraAt(const CameraPose& pose, const Camera& lens) {
+  Camera camera = lens;
+  camera.position = pose.position;
+  camera.yawDeg = pose.yawDeg;
+  camera.pitchDeg = pose.pitchDeg;
+  return camera;
+}
+
+int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
+  if (arguments.frames < 1 || arguments.frames > 100000)
+    return reportError(makeError(ErrorKind::InvalidArgument, "--frames must be between 1 and 100000"));
+  std::error_code error;
+  std::filesystem::create_directories(arguments.out, error);
+  if (error) return reportError(makeError(ErrorKind::Io, arguments.out + ": cannot create the folder: " + error.message()));
+
+  auto headless = createHeadlessRenderer(lens.widthPx, lens.heightPx);
+  if (!headless) return reportError(headless.error());
+  render::Renderer& renderer = *headless->renderer;
+  auto meshes = TerrainMeshes::upload(renderer, flight.dem.field);
+  if (!meshes) return reportError(meshes.error());
+
+  const double step = arguments.fps > 0.0 ? 1.0 / arguments.fps : flight.path.durationS() / arguments.frames;
+  RgbaImage image;
+  double renderSeconds = 0.0;
+  ProgressBar progress("rendering " + std::to_string(arguments.frames) + " frames");
+  for (int frame = 0; frame < arguments.frames; ++frame) {
+    const Camera camera = cameraAt(flight.path.at(frame * step), lens);
+    const auto start = std::chrono::steady_clock::now();
+    renderer.beginFrame(camera, flight.style);
+    meshes->draw(renderer);
+    if (Status done = renderer.endFrame(); !done) return reportError(done.error());
+    if (Status read = renderer.readPixels(image); !read) return reportError(read.error());
+    renderSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    makeOpaque(image);
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04d.png", frame);
+    if (Status written = terrain::writeRgbaPng(std::filesystem::path(arguments.out) / name, image); !written)
+      return reportError(written.error());
+    progress.update(float(frame + 1) / float(arguments.frames));
+  }
+  progress.finish();
+  std::printf("flew %.0f s of a %.0f s loop over %s (%d x %d samples, %zu triangles at full resolution)\n",
+              (arguments.frames - 1) * step, flight.path.durationS(), flight.dem.info.path.c_str(),
+              flight.dem.field.width, flight.dem.field.height, meshes->triangleCount());
+  std::printf("wrote %d frames (%dx%d) to %s/frame_0000.png ... frame_%04d.png; %.0f ms per frame to draw\n",
+              arguments.frames, lens.widthPx, lens.heightPx, arguments.out.c_str(), arguments.frames - 1,
+              1000.0 * renderSeconds / arguments.frames);
+  return 0;
+}
+
+#if POLDER_HAVE_GLFW
+// Interactive flight: the autopilot follows the loop; W/A/S/D, Q/E (down/up) and the mouse
+// (hold the right button) take over, Shift flies faster, Space hands back to the autopilot,
+// Escape quits. The camera never goes below 5 m above the ground.
+int runWindow(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
+  platform::GlfwWindowOptions options;
+  options.title = "Polder flyover";
+  options.width = lens.widthPx;
+  options.height = lens.heightPx;
+  auto window = platform::GlfwWindow::create(options);
+  if (!window) return reportError(window.error());
+  auto renderer = render::Renderer::create(&platform::GlfwWindow::getProcAddress);
+  if (!renderer) return reportError(renderer.error());
+  auto meshes = TerrainMeshes::upload(**renderer, flight.dem.field);
+  if (!meshes) return reportError(meshes.error());
+
+  using Key = platform::Key;
+  bool autopilot = true;
+  double flightTime = 0.0;
+  Camera camera = cameraAt(flight.path.at(0.0), lens);
+  auto last = std::chrono::steady_clock::now();
+  while (!(*window)->shouldClose()) {
+    (*window)->pollEvents();
+    const auto& input = (*window)->input();
+    const auto now = std::chrono::steady_clock::now();
+    const double dt = std::min(std::chrono::duration<double>(now - last).count(), 0.1);
+    last = now;
+    if (input.held(Key::Escape)) break;
+    const bool steering = input.held(Key::W) || input.held(Key::A) || input.held(Key::S) || input.held(Key::D) ||
+                          input.held(Key::Q) || input.held(Key::E) || input.rightButton;
+    if (steering) autopilot = false;
+    if (input.held(Key::Space)) autopilot = true;
+    if (autopilot) {
+      flightTime += dt;
+      const Camera pose = cameraAt(flight.path.at(flightTime), lens);
+      camera.position = pose.position, camera.yawDeg = pose.yawDeg, camera.pitchDeg = pose.pitchDeg;
+    } else {
+      const double speed = arguments.flight.speedMps * ((input.held(Key::LeftShift) || input.held(Key::RightShift)) ? 5.0 : 1.0);
+      if (input.rightButton) {
+        camera.yawDeg += 0.15 * input.mouseDelta.x;
+        camera.pitchDeg = std::clamp(camera.pitchDeg - 0.15 * input.mouseDelta.y, -89.0, 89.0);
+      }
+      glm::dvec3 move{0.0};
+      if (input.held(Key::W)) move += camera.forward();
+      if (input.held(Key::S)) move -= camera.forward();
+      if (input.held(Key::D)) move += camera.right();
+      if (input.held(Key::A)) move -= camera.right();
+      if (input.held(Key::E)) move.z += 1.0;
+      if (input.held(Key::Q)) move.z -= 1.0;
+      if (glm::length(move) > 0.0) camera.position += glm::normalize(move) * speed * dt;
+    }
+    if (auto ground = flight.scene->height(camera.position.x, camera.position.y))
+      camera.position.z = std::max(camera.position.z, *ground + 5.0);
+
+    const glm::ivec2 size = (*window)->framebufferSize();
+    if (size.x <= 0 || size.y <= 0) continue;  // minimised
+    camera.widthPx = size.x;
+    camera.heightPx = size.y;
+    (*renderer)->beginFrame(camera, flight.style);
+    meshes->draw(**renderer);
+    if (Status done = (*renderer)->endFrame(); !done) return reportError(done.error());
+    (*window)->swapBuffers();
+    char title[160];
+    std::snprintf(title, sizeof title, "Polder flyover - %s - %.0f fps - %zu triangles", autopilot ? "autopilot" : "manual",
+                  dt > 0.0 ? 1.0 / dt : 0.0, meshes->triangleCount());
+    (*window)->setTitle(title);
+  }
+  return 0;
+}
+#endif
+
+int runFlyover(const FlyoverArguments& arguments) {
+  auto size = parseImageSize(arguments.size);
+  if (!size) return reportError(size.error());
+  if (!(arguments.fovDeg > 1.0 && arguments.fovDeg < 179.0))
+    return reportError(makeError(ErrorKind::InvalidArgument, "--fov must be between 1 and 179 degrees"));
+  if (!(arguments.flight.speedMps > 0.0) || !(arguments.flight.altitudeM >= 0.0) || arguments.fps < 0.0)
+    return reportError(makeError(ErrorKind::InvalidArgument, "--speed must be positive, --altitude and --fps not negative"));
+  auto flight = prepareFlight(arguments);
+  if (!flight) return reportError(flight.error());
+  Camera lens;
+  lens.widthPx = size->first;
+  lens.heightPx = size->second;
+  lens.fovYDeg = arguments.fovDeg;
+  lens.position = flight->path.at(0.0).position;
+  fitClipPlanes(lens, flight->dem.field);
+  if (arguments.headless) return runHeadless(arguments, *flight, lens);
+#if POLDER_HAVE_GLFW
+  return runWindow(arguments, *flight, lens);
+#else
+  return reportError(makeError(ErrorKind::Unsupported, "this build has no window platform; use --headless"));
+#endif
+}
+
+}  // namespace
+
+void addFlyoverCommand(CLI::App& app, int& exitCode) {
+  auto arguments = std::make_shared<FlyoverArguments>();
+  CLI::App* command = app.add_subcommand("flyover", "Fly over a DEM in a window, or render the flight to PNG frames");
+  addDemArguments(*command, arguments->dem);
+  command->add_flag("--headless", arguments->headless, "Render frames with OSMesa instead of opening a window");
+  command->add_option("--frames", arguments->frames, "Frames to render headless")->capture_default_str();
+  command->add_option("--fps", arguments->fps, "Frames per second of flight time (default: spread over one loop)");
+  command->add_option("--out", arguments->out, "Folder for the PNG frames")->capture_default_str();
+  command->add_option("--size", arguments->size, "Image or window size WxH")->capture_default_str();
+  command->add_option("--fov", arguments->fovDeg, "Vertical field of view in degrees")->capture_default_str();
+  command->add_option("--altitude", arguments->flight.altitudeM, "Metres above the ground")->capture_default_str();
+  command->add_option("--speed", arguments->flight.speedMps, "Metres per second")->capture_default_str();
+  command->callback([arguments, &exitCode] { exitCode = runFlyover(*arguments); });
+}
+
+}  // namespace polder::cli

@@ -1,0 +1,15 @@
+// The `polder` subcommands. Each add*Command registers its options on the app and, when
+// chosen, stores its exit code in `exitCode`.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace polder::cli {
+
+void addInfoCommand(CLI::App& app, int& exitCode);
+void addGenCommand(CLI::App& app, int& exitCode);
+void addRenderCommand(CLI::App& app, int& exitCode);
+void addQueryCommand(CLI::App& app, int& exitCode);
+void addFlyoverCommand(CLI::App& app, int& exitCode);
+
+}  // namespace polder::cli

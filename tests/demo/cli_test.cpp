@@ -1,0 +1,177 @@
+// Runs the real polder program: what a user sees, exit codes included.
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <polder/terrain/dem_reader.hpp>
+#include <polder/terrain/image_writer.hpp>
+
+#include "test_support.hpp"
+
+namespace polder::test {
+namespace {
+
+struct ProgramRun {
+  int exitCode = -1;
+  std::string output;  // stdout and stderr together
+};
+
+ProgramRun runPolder(const std::string& arguments) {
+  const std::string command = std::string(POLDER_EXECUTABLE) + " " + arguments + " 2>&1";
+  ProgramRun run;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) return run;
+  std::array<char, 4096> buffer;
+  std::size_t read = 0;
+  while ((read = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), read);
+  const int status = ::pclose(pipe);
+  run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return run;
+}
+
+// A small generated DEM shared by the tests of this file.
+class PolderProgram : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    s_dir = new ScratchDir();
+    const ProgramRun gen = runPolder("gen --size 129 --seed 7 --spacing 25 --out " + s_dir->file("dem.png").string());
+    ASSERT_EQ(gen.exitCode, 0) << gen.output;
+  }
+  static void TearDownTestSuite() {
+    delete s_dir;
+    s_dir = nullptr;
+  }
+  static std::string dem() { return s_dir->file("dem.png").string(); }
+  static inline ScratchDir* s_dir = nullptr;
+};
+
+TEST_F(PolderProgram, InfoJsonHasTheDocumentedKeysAndTheGeneratedSize) {
+  const ProgramRun run = runPolder("info " + dem() + " --json");
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  const auto json = nlohmann::json::parse(run.output);
+  for (const char* key : {"width", "height", "spacing_m", "min_m", "max_m", "voids", "format", "encoding", "spacing_assumed"})
+    EXPECT_TRUE(json.contains(key)) << key;
+  EXPECT_EQ(json["width"], 129);
+  EXPECT_EQ(json["height"], 129);
+  EXPECT_NEAR(json["spacing_m"][0].get<double>(), 25.0, 1e-9);
+  EXPECT_FALSE(json["spacing_assumed"].get<bool>());
+  EXPECT_EQ(json["voids"], 0);
+  EXPECT_LT(json["min_m"].get<double>(), json["max_m"].get<double>());
+}
+
+TEST_F(PolderProgram, QueryAtAGridPointPrintsThatSampleHeight) {
+  auto read = terrain::readDem(dem());
+  ASSERT_TRUE(read.ok()) << read.error().message;
+  const auto& field = read->field;
+  const ProgramRun run = runPolder("query " + dem() + " --at " + std::to_string(10 * field.spacingX) + "," +
+                            std::to_string(20 * field.spacingY));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_NEAR(std::stod(run.output), field.at(10, 20), 1e-3);
+}
+
+TEST_F(PolderProgram, QueryRayDownHitsTheSurfaceAndRayUpMisses) {
+  const ProgramRun down = runPolder("query " + dem() + " --ray 1000,1500,5000,0,0,-1");
+  ASSERT_EQ(down.exitCode, 0) << down.output;
+  std::istringstream hit(down.output);
+  double x = 0, y = 0, z = 0, distance = 0;
+  ASSERT_TRUE(hit >> x >> y >> z >> distance) << down.output;
+  EXPECT_NEAR(x, 1000.0, 1e-6);
+  EXPECT_NEAR(y, 1500.0, 1e-6);
+  EXPECT_NEAR(distance, 5000.0 - z, 1e-6);
+  const ProgramRun at = runPolder("query " + dem() + " --at 1000,1500");
+  EXPECT_NEAR(std::stod(at.output), z, 1e-3);
+
+  const ProgramRun up = runPolder("query " + dem() + " --ray 1000,1500,5000,0,0,1");
+  EXPECT_EQ(up.exitCode, 0);
+  EXPECT_EQ(up.output, "miss\n");
+}
+
+TEST_F(PolderProgram, RenderWritesAPngOfTheRequestedSize) {
+  const std::string out = s_dir->file("frame.png").string();
+  const ProgramRun run = runPolder("render " + dem() + " --camera 1600,-800,1800,0,-25 --size 160x120 --out " + out);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  // The PNG header's IHDR chunk holds the size, big-endian, at bytes 16..23.
+  std::ifstream png(out, std::ios::binary);
+  unsigned char header[24] = {};
+  ASSERT_TRUE(png.read(reinterpret_cast<char*>(header), sizeof header));
+  EXPECT_EQ(std::string(reinterpret_cast<char*>(header) + 12, 4), "IHDR");
+  const auto bigEndian = [&](int at) { return (header[at] << 24) | (header[at + 1] << 16) | (header[at + 2] << 8) | header[at + 3]; };
+  EXPECT_EQ(bigEndian(16), 160);
+  EXPECT_EQ(bigEndian(20), 120);
+}
+
+TEST_F(PolderProgram, HeadlessFlyoverWritesEveryFrame) {
+  const std::string out = s_dir->file("flight").string();
+  const ProgramRun run = runPolder("flyover " + dem() + " --headless --frames 3 --size 96x64 --altitude 200 --out " + out);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  for (const char* frame : {"frame_0000.png", "frame_0001.png", "frame_0002.png"})
+    EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(out) / frame)) << frame;
+  EXPECT_NE(run.output.find(out), std::string::npos) << "says where the frames are: " << run.output;
+}
+
+TEST_F(PolderProgram, GeneratorIsDeterministicThroughTheProgram) {
+  const ProgramRun again = runPolder("gen --size 129 --seed 7 --spacing 25 --out " + s_dir->file("again.png").string());
+  ASSERT_EQ(again.exitCode, 0) << again.output;
+  auto a = terrain::readDem(dem());
+  auto b = terrain::readDem(s_dir->file("again.png"));
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(a->field.heights, b->field.heights);
+}
+
+// Bad input: a one-line message naming the problem, exit 1 (data) or 2 (usage), no crash.
+struct BadInput {
+  const char* name;
+  std::string arguments;
+  int exitCode;
+  const char* mentions;
+};
+
+TEST_F(PolderProgram, BadInputGetsAClearMessageAndExitCode) {
+  const std::string empty = s_dir->file("empty.png").string();
+  writeFile(empty, "");
+  const std::string garbage = s_dir->file("garbage.tif").string();
+  writeFile(garbage, std::string("II*\0garbage that is not a tiff", 30));
+  const std::string raw = s_dir->file("heights.r16").string();
+  writeFile(raw, std::string(100, '\0'));
+  const std::vector<BadInput> cases = {
+      {"missing file", "info /nonexistent/dem.png", 1, "/nonexistent/dem.png"},
+      {"empty file", "info " + empty, 1, "empty.png"},
+      {"corrupt tiff", "info " + garbage, 1, "garbage.tif"},
+      {"raw size mismatch", "info " + raw + " --raw 64x64:u16", 1, "heights.r16"},
+      {"bad raw layout", "info " + raw + " --raw 64by64", 2, "64by64"},
+      {"bad encoding", "info " + dem() + " --encoding rainbow", 2, "rainbow"},
+      {"bad spacing", "info " + dem() + " --spacing -3", 2, "--spacing"},
+      {"bad camera", "render " + dem() + " --camera 1,2,3 --out x.png", 2, "--camera"},
+      {"bad size", "render " + dem() + " --camera 0,0,100,0,-10 --size 0x0 --out x.png", 2, "--size"},
+      {"query outside", "query " + dem() + " --at -500,-500", 2, "outside"},
+      {"query both", "query " + dem() + " --at 1,1 --ray 0,0,0,0,0,-1", 2, "exactly one"},
+      {"gen bad size", "gen --size 1 --out " + s_dir->file("g.png").string(), 2, "size"},
+      {"gen bad extension", "gen --size 33 --out " + s_dir->file("g.jpg").string(), 2, ".png"},
+      {"unknown command", "fly-me-to-the-moon", 2, "fly-me-to-the-moon"},
+      {"missing argument", "info", 2, "dem"},
+  };
+  for (const auto& c : cases) {
+    const ProgramRun run = runPolder(c.arguments);
+    EXPECT_EQ(run.exitCode, c.exitCode) << c.name << ": " << run.output;
+    EXPECT_NE(run.output.find(c.mentions), std::string::npos) << c.name << " should mention '" << c.mentions
+                                                              << "': " << run.output;
+    EXPECT_EQ(run.output.find("terminate called"), std::string::npos) << c.name;
+  }
+}
+
+TEST(PolderProgramHelp, EverySubcommandHasHelp) {
+  for (const char* command : {"info", "gen", "render", "query", "flyover"}) {
+    const ProgramRun run = runPolder(std::string(command) + " --help");
+    EXPECT_EQ(run.exitCode, 0) << command << ": " << run.output;
+    EXPECT_NE(run.output.find("Usage"), std::string::npos) << command;
+  }
+}
+
+}  // namespace
+}  // namespace polder::test
