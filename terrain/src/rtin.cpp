@@ -1,0 +1,703 @@
+// Per-block LOD: the right-triangle bintree error hierarchy and its extractions.
+//
+// Follows W. Evans, D. Kirkpatrick, G. Townsend, "Right-triangulated irregular networks"
+// (Algorithmica 2001) for the bintree; P. Lindstrom et al., "Real-time, continuous level of
+// detail rendering of height fields" (SIGGRAPH 1996), R. Pajarola, "Large scale terrain
+// visualization using the restricted quadtree triangulation" (Visualization 1998) and
+// M. Duchaineau et al., "ROAMing terrain" (Visualization 1997) for monotone errors, conforming
+// extraction and greedy refinement; P. Lindstrom, V. Pascucci, "Visualization of large
+// terrains made easy" (Visualization 2001) for nested bounding spheres.
+//
+// Layout. Vertex (i, j) of a block with n = 2^k cells per side is the hypotenuse midpoint of
+// the triangles it splits, found from its coordinates alone: with h the lowest set bit of
+// (i | j), a vertex with i/h and j/h both odd is the centre of a square of side 2h (its two
+// triangles share that square's diagonal); otherwise it is the midpoint of an axis-aligned
+// hypotenuse of length 2h (one triangle on the block's side, two inside). Building visits
+// vertices from fine to coarse (h = 1, 2, ...; side midpoints before square centres), so a
+// vertex's children (the midpoints of its triangles' legs) are final when it is reached.
+#include <polder/terrain/rtin.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <string>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace polder::terrain {
+namespace {
+
+constexpr std::uint32_t kNoVertex = 0xffffffffu;
+// The error of a vertex that must always be split (a clipped block's straddling triangles).
+constexpr float kForced = std::numeric_limits<float>::infinity();
+// Each nesting step grows a radius by this factor beyond the exact sum, so that rounding in
+// camera distances cannot make a child active while its parent is not.
+constexpr double kRadiusSlack = 1e-6;
+constexpr std::uint8_t kSplitFlag = 0x80;
+
+// A bintree triangle: right-angle apex a, hypotenuse b-c, counter-clockwise seen from above.
+struct Tri {
+  int ax, ay, bx, by, cx, cy;
+};
+
+Tri counterClockwise(int ax, int ay, int px, int py, int qx, int qy) {
+  const long long cross = (long long)(px - ax) * (qy - ay) - (long long)(py - ay) * (qx - ax);
+  return cross > 0 ? Tri{ax, ay, px, py, qx, qy} : Tri{ax, ay, qx, qy, px, py};
+}
+
+// Which of the two triangles on a hypotenuse this one is: 1 when its apex lies east of the
+// hypotenuse's midpoint, or due north of it. Works in doubled coordinates for half cells.
+int triangleSide(int ax, int ay, int bx, int by, int cx, int cy) {
+  const int ax2 = 2 * ax, ay2 = 2 * ay, mx2 = bx + cx, my2 = by + cy;
+  return (ax2 > mx2 || (ax2 == mx2 && ay2 > my2)) ? 1 : 0;
+}
+
+bool isHalfCell(int bx, int cx) { return std::abs(bx - cx) == 1; }
+
+// The triangles that vertex (i, j) splits, in a block of n cells per side (see the top).
+int splitTriangles(int i, int j, int n, Tri out[2]) {
+  if ((i == 0 || i == n) && (j == 0 || j == n)) return 0;
+  const int shift = std::countr_zero(unsigned(i | j));
+  const int h = 1 << shift;
+  const bool iOdd = ((i >> shift) & 1) != 0, jOdd = ((j >> shift) & 1) != 0;
+  if (iOdd && jOdd) {
+    // Square centres alternate their diagonal like a checkerboard, each diagonal pointing at
+    // the centre of the square one level up; the root square uses south-east to north-west.
+    const int qx = (i - h) / (2 * h), qy = (j - h) / (2 * h);
+    const bool southWestToNorthEast = 2 * h != n && ((qx + qy) & 1) == 0;
+    if (southWestToNorthEast) {
+      out[0] = counterClockwise(i + h, j - h, i - h, j - h, i + h, j + h);
+      out[1] = counterClockwise(i - h, j + h, i - h, j - h, i + h, j + h);
+    } else {
+      out[0] = counterClockwise(i - h, j - h, i + h, j - h, i - h, j + h);
+      out[1] = counterClockwise(i + h, j + h, i + h, j - h, i - h, j + h);
+    }
+    return 2;
+  }
+  int count = 0;
+  if (iOdd) {  // hypotenuse runs west-east
+    if (j > 0) out[count++] = counterClockwise(i, j - h, i - h, j, i + h, j);
+    if (j < n) out[count++] = counterClockwise(i, j + h, i - h, j, i + h, j);
+  } else {  // hypotenuse runs south-north
+    if (i > 0) out[count++] = counterClockwise(i - h, j, i, j - h, i, j + h);
+    if (i < n) out[count++] = counterClockwise(i + h, j, i, j - h, i, j + h);
+  }
+  return count;
+}
+
+int splitTriangleCount(int i, int j, int n) {
+  if ((i == 0 || i == n) && (j == 0 || j == n)) return 0;
+  const int shift = std::countr_zero(unsigned(i | j));
+  const bool iOdd = ((i >> shift) & 1) != 0, jOdd = ((j >> shift) & 1) != 0;
+  if (iOdd && jOdd) return 2;
+  if (iOdd) return int(j > 0) + int(j < n);
+  return int(i > 0) + int(i < n);
+}
+
+// Rounds a non-negative value up to float, so that stored errors and radii never fall below
+// the exact values.
+float roundUp(double x) {
+  float f = float(x);
+  if (double(f) < x) f = std::bit_cast<float>(std::bit_cast<std::uint32_t>(f) + 1u);  // next float up
+  return f;
+}
+
+// Where full-resolution samples come from: the field row by row, limited to the valid
+// sub-rectangle [0, lastX] x [0, lastY] of offsets from the block's origin sample.
+struct SampleWindow {
+  const float* origin = nullptr;  // sample (x0, y0)
+  std::ptrdiff_t pitch = 0;       // samples per field row
+  int stride = 1;
+  int lastX = 0;
+  int lastY = 0;
+};
+
+// Largest |row[x] - (base + gx * x)| over x in [lo, hi]: the inner loop of every build.
+double rowError(const float* row, int lo, int hi, double base, double gx) {
+  double m = 0.0;
+  int x = lo;
+#if defined(__SSE2__)
+  // Two doubles a lane pair, two independent maxima (scalar code chains every sample on the
+  // previous maximum and does not vectorize without fast-math).
+  if (hi - lo >= 3) {
+    const __m128d vBase = _mm_set1_pd(base), vGx = _mm_set1_pd(gx), two = _mm_set1_pd(2.0);
+    const __m128d absMask = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
+    __m128d fx = _mm_set_pd(lo + 1.0, double(lo));
+    __m128d m0 = _mm_setzero_pd(), m1 = _mm_setzero_pd();
+    for (; x + 3 <= hi; x += 4) {
+      const __m128 h4 = _mm_loadu_ps(row + x);
+      const __m128d fx2 = _mm_add_pd(fx, two);
+      const __m128d d0 = _mm_sub_pd(_mm_cvtps_pd(h4), _mm_add_pd(vBase, _mm_mul_pd(vGx, fx)));
+      const __m128d d1 = _mm_sub_pd(_mm_cvtps_pd(_mm_movehl_ps(h4, h4)), _mm_add_pd(vBase, _mm_mul_pd(vGx, fx2)));
+      m0 = _mm_max_pd(m0, _mm_and_pd(d0, absMask));
+      m1 = _mm_max_pd(m1, _mm_and_pd(d1, absMask));
+      fx = _mm_add_pd(fx2, two);
+    }
+    m0 = _mm_max_pd(m0, m1);
+    m = std::max(_mm_cvtsd_f64(m0), _mm_cvtsd_f64(_mm_unpackhi_pd(m0, m0)));
+  }
+#endif
+  for (; x <= hi; ++x) {
+    const double d = std::fabs(double(row[x]) - (base + gx * x));
+    m = d > m ? d : m;
+  }
+  return m;
+}
+
+// Slope dx/dy of a triangle edge with dy != 0: the edges are vertical or at 45 degrees.
+int unitSlope(int dx) { return (dx > 0) - (dx < 0); }
+
+// Exact error of triangle t against every full-resolution sample in it (closed triangle),
+// the plane running through the vertex heights za, zb, zc. Each triangle edge is horizontal,
+// vertical or at 45 degrees, so its rows are spans with integer ends.
+double exactTriangleError(const SampleWindow& window, const Tri& t, double za, double zb, double zc) {
+  const int s = window.stride;
+  const int px[3] = {t.ax * s, t.bx * s, t.cx * s};
+  const int py[3] = {t.ay * s, t.by * s, t.cy * s};
+  const double e1x = px[1] - px[0], e1y = py[1] - py[0], e2x = px[2] - px[0], e2y = py[2] - py[0];
+  const double dz1 = zb - za, dz2 = zc - za;
+  const double invDet = 1.0 / (e1x * e2y - e1y * e2x);
+  const double gx = (dz1 * e2y - dz2 * e1y) * invDet;
+  const double gy = (e1x * dz2 - e2x * dz1) * invDet;
+  const double c0 = za - gx * px[0] - gy * py[0];  // plane: z = c0 + gx X + gy Y
+
+  int o0 = 0, o1 = 1, o2 = 2;  // vertices sorted by Y
+  if (py[o1] < py[o0]) std::swap(o0, o1);
+  if (py[o2] < py[o1]) std::swap(o1, o2);
+  if (py[o1] < py[o0]) std::swap(o0, o1);
+  const int x0 = px[o0], y0 = py[o0], x1 = px[o1], y1 = py[o1], x2 = px[o2], y2 = py[o2];
+  const int slopeLong = unitSlope(x2 - x0);
+
+  double err = 0.0;
+  auto scanRow = [&](int y, int xa, int xb) {
+    const int lo = std::max(std::min(xa, xb), 0);
+    const int hi = std::min(std::max(xa, xb), window.lastX);
+    const double rowErr = rowError(window.origin + std::ptrdiff_t(y) * window.pitch, lo, hi, c0 + gy * y, gx);
+    err = rowErr > err ? rowErr : err;
+  };
+  if (y1 == y0) {
+    if (y0 <= window.lastY) scanRow(y0, x0, x1);
+  } else {
+    const int slope01 = unitSlope(x1 - x0);
+    const int end = std::min(y1, window.lastY);
+    for (int y = y0; y <= end; ++y) scanRow(y, x0 + (y - y0) * slopeLong, x0 + (y - y0) * slope01);
+  }
+  if (y2 > y1) {
+    const int slope12 = unitSlope(x2 - x1);
+    const int end = std::min(y2, window.lastY);
+    for (int y = y1 + 1; y <= end; ++y) scanRow(y, x0 + (y - y0) * slopeLong, x1 + (y - y1) * slope12);
+  }
+  return err;
+}
+
+enum class Coverage { Inside, Straddles, Outside };
+
+// How triangle t meets the valid rectangle [0, cx] x [0, cy] (separating axes: the
+// rectangle's, then the triangle's edge normals; touching counts as outside).
+Coverage coverage(const Tri& t, int cx, int cy) {
+  const int maxX = std::max({t.ax, t.bx, t.cx}), maxY = std::max({t.ay, t.by, t.cy});
+  if (maxX <= cx && maxY <= cy) return Coverage::Inside;
+  const int minX = std::min({t.ax, t.bx, t.cx}), minY = std::min({t.ay, t.by, t.cy});
+  if (minX >= cx || minY >= cy) return Coverage::Outside;
+  const int vx[3] = {t.ax, t.bx, t.cx}, vy[3] = {t.ay, t.by, t.cy};
+  const int rx[4] = {0, cx, cx, 0}, ry[4] = {0, 0, cy, cy};
+  for (int e = 0; e < 3; ++e) {
+    const int px = vx[e], py = vy[e];
+    const int ex = vx[(e + 1) % 3] - px, ey = vy[(e + 1) % 3] - py;
+    bool allOutside = true;  // outward normal of a counter-clockwise edge: (ey, -ex)
+    for (int r = 0; r < 4 && allOutside; ++r)
+      allOutside = (long long)ey * (rx[r] - px) - (long long)ex * (ry[r] - py) >= 0;
+    if (allOutside) return Coverage::Outside;
+  }
+  return Coverage::Straddles;
+}
+
+bool insideRect(const Tri& t, int cx, int cy) {
+  return std::max({t.ax, t.bx, t.cx}) <= cx && std::max({t.ay, t.by, t.cy}) <= cy;
+}
+
+}  // namespace
+
+// ---- scratch ----------------------------------------------------------------------------
+
+void RtinScratch::reserve(int k) {
+  assert(k >= 1 && k <= kRtinMaxK && "RtinScratch::reserve: k must be in 1..kRtinMaxK");
+  prepare(blockMeshVertexBound(k));
+}
+
+void RtinScratch::prepare(std::size_t vertexCount) {
+  if (m_remap.size() < vertexCount) m_remap.resize(vertexCount, kNoVertex);
+  if (m_state.size() < vertexCount) m_state.resize(vertexCount, 0);
+  if (m_queue.capacity() < vertexCount) m_queue.reserve(vertexCount);
+}
+
+// ---- build ------------------------------------------------------------------------------
+
+Result<BlockLod> BlockLod::build(const Heightfield& field, const BlockFootprint& footprint) {
+  BlockLod lod;
+  Status status = lod.rebuild(field, footprint);
+  if (!status) return status.error();
+  return lod;
+}
+
+Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {
+  assert(fp.k >= 1 && fp.k <= kRtinMaxK && "BlockLod::build: k must be in 1..kRtinMaxK");
+  assert(fp.stride >= 1 && std::has_single_bit(unsigned(fp.stride)) &&
+         "BlockLod::build: stride must be a power of two");
+  assert(fp.x0 >= 0 && fp.y0 >= 0 && "BlockLod::build: negative block origin");
+  assert(field.heights.size() == field.sampleCount() && "BlockLod::build: heights do not match width * height");
+
+  const int n = fp.cells(), s = fp.stride;
+  if (field.width < 2 || field.height < 2 || fp.x0 >= field.width - 1 || fp.y0 >= field.height - 1 ||
+      (field.width - 1 - fp.x0) / s < 1 || (field.height - 1 - fp.y0) / s < 1) {
+    return makeError(ErrorKind::InvalidArgument,
+                     "BlockLod::build: block at sample (" + std::to_string(fp.x0) + ", " + std::to_string(fp.y0) +
+                         ") with stride " + std::to_string(s) + " has no whole cell inside the " +
+                         std::to_string(field.width) + " x " + std::to_string(field.height) + " field");
+  }
+  const int cellsX = std::min(n, (field.width - 1 - fp.x0) / s);
+  const int cellsY = std::min(n, (field.height - 1 - fp.y0) / s);
+
+  SampleWindow window;
+  window.origin = field.heights.data() + field.index(fp.x0, fp.y0);
+  window.pitch = field.width;
+  window.stride = s;
+  window.lastX = cellsX * s;
+  window.lastY = cellsY * s;
+
+  // Height range and finiteness of everything the meshes will cover.
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  bool finite = true;
+  for (int y = 0; y <= window.lastY; ++y) {
+    const float* row = window.origin + std::ptrdiff_t(y) * window.pitch;
+    for (int x = 0; x <= window.lastX; ++x) {
+      const float v = row[x];
+      finite &= std::isfinite(v);
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  if (!finite) {
+    return makeError(ErrorKind::InvalidData, "BlockLod::build: the block at sample (" + std::to_string(fp.x0) + ", " +
+                                                 std::to_string(fp.y0) +
+                                                 ") has non-finite heights (no-data left unfilled?)");
+  }
+
+  m_footprint = fp;
+  m_cellsX = cellsX;
+  m_cellsY = cellsY;
+  m_clipped = cellsX < n || cellsY < n;
+  m_origin = glm::dvec3(fp.x0 * field.spacingX, fp.y0 * field.spacingY, 0.0);
+  m_vertexSpacingX = s * field.spacingX;
+  m_vertexSpacingY = s * field.spacingY;
+  m_minHeight = lo;
+  m_maxHeight = hi;
+
+  const int side = n + 1;
+  const std::size_t vertexCount = std::size_t(side) * std::size_t(side);
+  m_height.resize(vertexCount);
+  m_error.assign(vertexCount, 0.0f);
+  m_radius.assign(vertexCount, 0.0f);
+  m_triangleError.assign(2 * vertexCount, 0.0f);
+  if (s > 1) {
+    m_leafError.assign(2 * std::size_t(n) * std::size_t(n), 0.0f);
+  } else {
+    m_leafError.clear();  // half cells at stride 1 hold no sample but their corners
+  }
+
+  // Vertex heights; outside a clipped block's rectangle, the nearest valid vertex's height
+  // keeps radii sane (those triangles are never drawn).
+  for (int j = 0; j <= n; ++j) {
+    const float* row = window.origin + std::ptrdiff_t(std::min(j, cellsY)) * s * window.pitch;
+    for (int i = 0; i <= n; ++i) m_height[std::size_t(j) * side + i] = row[std::min(i, cellsX) * s];
+  }
+
+  const bool clippedBlock = m_clipped;
+  const float* heights = m_height.data();
+  auto hAt = [heights, side](int i, int j) { return double(heights[std::size_t(j) * side + i]); };
+
+  // Half cells: their error is what the stride leaves, never refined within this block.
+  if (s > 1) {
+    for (int cj = 0; cj < cellsY; ++cj) {
+      for (int ci = 0; ci < cellsX; ++ci) {
+        Tri halves[2];
+        if (((ci + cj) & 1) == 0) {  // same checkerboard as the square centres, one level down
+          halves[0] = counterClockwise(ci + 1, cj, ci, cj, ci + 1, cj + 1);
+          halves[1] = counterClockwise(ci, cj + 1, ci, cj, ci + 1, cj + 1);
+        } else {
+          halves[0] = counterClockwise(ci, cj, ci + 1, cj, ci, cj + 1);
+          halves[1] = counterClockwise(ci + 1, cj + 1, ci + 1, cj, ci, cj + 1);
+        }
+        for (const Tri& t : halves) {
+          const double err =
+              exactTriangleError(window, t, hAt(t.ax, t.ay), hAt(t.bx, t.by), hAt(t.cx, t.cy));
+          const int sideIndex = triangleSide(t.ax, t.ay, t.bx, t.by, t.cx, t.cy);
+          m_leafError[(std::size_t(cj) * n + ci) * 2 + sideIndex] = roundUp(err);
+        }
+      }
+    }
+  }
+
+  const double dx = m_vertexSpacingX, dy = m_vertexSpacingY;
+  const bool fastFinest = s == 1;  // the finest triangles then hold samples at known places
+
+  // One triangle of vertex v = (i, j) at height zm: stores its exact error and widens v's
+  // error, bounding sphere (cover2: squared radius of the triangle alone) and nested radius.
+  struct Accumulator {
+    double err = 0.0, cover2 = 0.0, radius = 0.0;
+    bool forced = false;
+  };
+  auto addTriangle = [&](Accumulator& acc, int i, int j, double zm, const Tri& tri, int triSide, double horizontal2,
+                         bool finestSquareHalf, bool finest) {
+    const std::size_t v = std::size_t(j) * side + i;
+    const Coverage cover = clippedBlock ? coverage(tri, cellsX, cellsY) : Coverage::Inside;
+    const double za = hAt(tri.ax, tri.ay), zb = hAt(tri.bx, tri.by), zc = hAt(tri.cx, tri.cy);
+    double exact = 0.0;
+    if (finest && fastFinest && cover == Coverage::Inside) {
+      // At stride 1 the finest two levels hold no samples but their corners and the
+      // midpoints of their sides (of the legs only for a square's half), where the plane is
+      // the mean of the side's ends.
+      exact = std::fabs(zm - 0.5 * (zb + zc));
+      if (finestSquareHalf) {
+        exact = std::max({exact, std::fabs(hAt((tri.ax + tri.bx) / 2, (tri.ay + tri.by) / 2) - 0.5 * (za + zb)),
+                          std::fabs(hAt((tri.cx + tri.ax) / 2, (tri.cy + tri.ay) / 2) - 0.5 * (zc + za))});
+      }
+    } else if (cover != Coverage::Outside) {
+      exact = exactTriangleError(window, tri, za, zb, zc);
+    }
+    const float triErr = roundUp(exact);
+    acc.forced |= cover == Coverage::Straddles;
+    m_triangleError[2 * v + triSide] = triErr;
+    acc.err = std::max(acc.err, double(triErr));
+
+    // Sphere around the midpoint holding the triangle in 3D: its footprint lies within the
+    // circle through its corners, its plane and the samples under it within the corner
+    // heights widened by its error.
+    const double vertical = std::max(std::max(std::fabs(za - zm), std::fabs(zb - zm)), std::fabs(zc - zm)) + triErr;
+    acc.cover2 = std::max(acc.cover2, horizontal2 + vertical * vertical);
+
+    // Children: the midpoints of the legs, unless the legs are cell diagonals.
+    if (finest && !finestSquareHalf) return;
+    const int child[2][2] = {{(tri.ax + tri.bx) / 2, (tri.ay + tri.by) / 2},
+                             {(tri.cx + tri.ax) / 2, (tri.cy + tri.ay) / 2}};
+    for (const auto& c : child) {
+      const std::size_t ci = std::size_t(c[1]) * side + c[0];
+      const double ex = (c[0] - i) * dx, ey = (c[1] - j) * dy, ez = double(heights[ci]) - zm;
+      acc.err = std::max(acc.err, double(m_error[ci]));
+      acc.radius = std::max(acc.radius, std::sqrt(ex * ex + ey * ey + ez * ez) + double(m_radius[ci]));
+    }
+  };
+  auto finish = [&](const Accumulator& acc, int i, int j) {
+    const std::size_t v = std::size_t(j) * side + i;
+    m_error[v] = acc.forced ? kForced : float(acc.err);  // a max of floats already
+    m_radius[v] = roundUp(std::max(acc.radius, std::sqrt(acc.cover2)) * (1.0 + kRadiusSlack));
+  };
+
+  for (int shift = 0; shift < fp.k; ++shift) {
+    const int h = 1 << shift;
+    const bool finest = shift == 0;
+    // Side midpoints first (their children are the finer square centres): the hypotenuse
+    // b-c runs along u, the apexes sit at +-w (side 1 at +w: north or east).
+    const double sideHorizontal2 = std::max(h * dx, h * dy) * std::max(h * dx, h * dy);
+    for (int j = 0; j <= n; j += h) {
+      const bool alongX = ((j >> shift) & 1) == 0;  // j a multiple of 2h: hypotenuse runs west-east
+      const int ux = alongX ? h : 0, uy = alongX ? 0 : h;
+      for (int i = alongX ? h : 0; i <= n; i += 2 * h) {
+        const double zm = hAt(i, j);
+        if (finest && fastFinest && !clippedBlock) {
+          // Half of all triangles, so a short path: at stride 1 both triangles hold no
+          // sample but their corners and the hypotenuse midpoint, so share one error.
+          const std::size_t v = std::size_t(j) * side + i;
+          const double zb = hAt(i - ux, j - uy), zc = hAt(i + ux, j + uy);
+          const float triErr = roundUp(std::fabs(zm - 0.5 * (zb + zc)));
+          double vertical = std::max(std::fabs(zb - zm), std::fabs(zc - zm));
+          if (i - uy >= 0 && j - ux >= 0) vertical = std::max(vertical, std::fabs(hAt(i - uy, j - ux) - zm));
+          if (i + uy <= n && j + ux <= n) vertical = std::max(vertical, std::fabs(hAt(i + uy, j + ux) - zm));
+          vertical += triErr;
+          m_triangleError[2 * v] = m_triangleError[2 * v + 1] = triErr;
+          m_error[v] = triErr;
+          m_radius[v] = roundUp(std::sqrt(sideHorizontal2 + vertical * vertical) * (1.0 + kRadiusSlack));
+          continue;
+        }
+        Accumulator acc;
+        for (int sgn = -1; sgn <= 1; sgn += 2) {
+          const int ax = i + sgn * uy, ay = j + sgn * ux;  // w is u turned a quarter
+          if (ax < 0 || ax > n || ay < 0 || ay > n) continue;
+          const Tri tri = counterClockwise(ax, ay, i - ux, j - uy, i + ux, j + uy);
+          addTriangle(acc, i, j, zm, tri, sgn > 0 ? 1 : 0, sideHorizontal2, false, finest);
+        }
+        finish(acc, i, j);
+      }
+    }
+    // Then the centres of the squares of side 2h (whose children are these side midpoints).
+    // The diagonals alternate like a checkerboard, each pointing at the centre of the square
+    // one level up; the root square's runs south-east to north-west.
+    const double centreHorizontal2 = h * dx * (h * dx) + h * dy * (h * dy);
+    for (int j = h; j < n; j += 2 * h) {
+      for (int i = h; i < n; i += 2 * h) {
+        const int qx = (i - h) / (2 * h), qy = (j - h) / (2 * h);
+        const bool southWestToNorthEast = 2 * h != n && ((qx + qy) & 1) == 0;
+        const double zm = hAt(i, j);
+        if (finest && fastFinest && !clippedBlock) {
+          // A quarter of all triangles, so a short path: at stride 1 a half square of side 2
+          // holds, besides its corners, the midpoints of its sides: this centre and two side
+          // midpoints, whose finished errors are exactly their deviations.
+          const std::size_t v = std::size_t(j) * side + i;
+          const std::size_t west = v - 1, east = v + 1, south = v - side, north = v + side;
+          const double zb = southWestToNorthEast ? hAt(i - 1, j - 1) : hAt(i + 1, j - 1);
+          const double zc = southWestToNorthEast ? hAt(i + 1, j + 1) : hAt(i - 1, j + 1);
+          const double za0 = southWestToNorthEast ? hAt(i - 1, j + 1) : hAt(i - 1, j - 1);  // apex west
+          const double za1 = southWestToNorthEast ? hAt(i + 1, j - 1) : hAt(i + 1, j + 1);  // apex east
+          const float centre = roundUp(std::fabs(zm - 0.5 * (zb + zc)));
+          // The apex's legs end at the side midpoints next to it.
+          const float err0 = std::max({centre, m_error[west], m_error[southWestToNorthEast ? north : south]});
+          const float err1 = std::max({centre, m_error[east], m_error[southWestToNorthEast ? south : north]});
+          m_triangleError[2 * v] = err0;
+          m_triangleError[2 * v + 1] = err1;
+          m_error[v] = std::max(err0, err1);
+          const double diagonal = std::max(std::fabs(zb - zm), std::fabs(zc - zm));
+          const double vertical0 = std::max(diagonal, std::fabs(za0 - zm)) + err0;
+          const double vertical1 = std::max(diagonal, std::fabs(za1 - zm)) + err1;
+          double radius = std::sqrt(centreHorizontal2 + std::max(vertical0 * vertical0, vertical1 * vertical1));
+          for (const std::size_t c : {west, east, south, north}) {
+            const double ex = c == west ? -dx : (c == east ? dx : 0.0), ey = c == south ? -dy : (c == north ? dy : 0.0);
+            const double ez = double(heights[c]) - zm;
+            radius = std::max(radius, std::sqrt(ex * ex + ey * ey + ez * ez) + double(m_radius[c]));
+          }
+          m_radius[v] = roundUp(radius * (1.0 + kRadiusSlack));
+          continue;
+        }
+        Accumulator acc;
+        if (southWestToNorthEast) {
+          addTriangle(acc, i, j, zm, counterClockwise(i + h, j - h, i - h, j - h, i + h, j + h), 1, centreHorizontal2,
+                      true, finest);
+          addTriangle(acc, i, j, zm, counterClockwise(i - h, j + h, i - h, j - h, i + h, j + h), 0, centreHorizontal2,
+                      true, finest);
+        } else {
+          addTriangle(acc, i, j, zm, counterClockwise(i - h, j - h, i + h, j - h, i - h, j + h), 0, centreHorizontal2,
+                      true, finest);
+          addTriangle(acc, i, j, zm, counterClockwise(i + h, j + h, i + h, j - h, i - h, j + h), 1, centreHorizontal2,
+                      true, finest);
+        }
+        finish(acc, i, j);
+      }
+    }
+  }
+
+  // Node error: the exact error of the coarsest mesh (only forced splits).
+  float coarsest = 0.0f;
+  auto forcedOnly = [&](int i, int j) { return m_error[std::size_t(j) * side + i] == kForced; };
+  auto maxLeaf = [&](int ax, int ay, int bx, int by, int cx, int cy, float err) {
+    if (insideRect(Tri{ax, ay, bx, by, cx, cy}, m_cellsX, m_cellsY)) coarsest = std::max(coarsest, err);
+  };
+  walk(forcedOnly, maxLeaf);
+  m_maxError = coarsest;
+  m_floorError = m_leafError.empty() ? 0.0f : *std::max_element(m_leafError.begin(), m_leafError.end());
+  return {};
+}
+
+// ---- queries ----------------------------------------------------------------------------
+
+float BlockLod::storedTriangleError(int ax, int ay, int bx, int by, int cx, int cy) const {
+  const int sideIndex = triangleSide(ax, ay, bx, by, cx, cy);
+  if (isHalfCell(bx, cx)) {
+    if (m_leafError.empty()) return 0.0f;
+    const int ci = std::min(bx, cx), cj = std::min(by, cy);
+    return m_leafError[(std::size_t(cj) * m_footprint.cells() + ci) * 2 + sideIndex];
+  }
+  return m_triangleError[2 * vertexIndex((bx + cx) / 2, (by + cy) / 2) + sideIndex];
+}
+
+float BlockLod::triangleError(GridVertex apex, GridVertex b, GridVertex c) const {
+#ifndef NDEBUG
+  {
+    const int n = m_footprint.cells();
+    bool found = false;
+    if (isHalfCell(b.i, c.i)) {
+      const int ci = std::min(b.i, c.i), cj = std::min(b.j, c.j);
+      const bool southWestToNorthEast = ((ci + cj) & 1) == 0;
+      const bool isDiagonal = southWestToNorthEast ? ((b.i - c.i) == (b.j - c.j)) : ((b.i - c.i) == -(b.j - c.j));
+      found = std::abs(b.j - c.j) == 1 && isDiagonal && (apex.i == ci || apex.i == ci + 1) &&
+              (apex.j == cj || apex.j == cj + 1) && !(apex.i == b.i && apex.j == b.j) &&
+              !(apex.i == c.i && apex.j == c.j);
+    } else if (((b.i + c.i) & 1) == 0 && ((b.j + c.j) & 1) == 0) {
+      Tri tris[2];
+      const int count = splitTriangles((b.i + c.i) / 2, (b.j + c.j) / 2, n, tris);
+      for (int t = 0; t < count; ++t) found |= tris[t].ax == apex.i && tris[t].ay == apex.j;
+    }
+    assert(found && "BlockLod::triangleError: not a triangle of the bintree");
+  }
+#endif
+  return storedTriangleError(apex.i, apex.j, b.i, b.j, c.i, c.j);
+}
+
+std::size_t BlockLod::memoryBytes() const {
+  return sizeof(*this) + sizeof(float) * (m_height.capacity() + m_error.capacity() + m_radius.capacity() +
+                                          m_triangleError.capacity() + m_leafError.capacity());
+}
+
+// ---- extraction -------------------------------------------------------------------------
+
+template <class Active, class Leaf>
+void BlockLod::walk(Active& active, Leaf& leaf) const {
+  const int n = m_footprint.cells();
+  walkTriangle(0, 0, n, 0, 0, n, active, leaf);  // south-west half
+  walkTriangle(n, n, 0, n, n, 0, active, leaf);  // north-east half
+}
+
+template <class Active, class Leaf>
+void BlockLod::walkTriangle(int ax, int ay, int bx, int by, int cx, int cy, Active& active, Leaf& leaf) const {
+  // Nothing of a clipped block's outside reaches the mesh.
+  if (m_clipped && (std::min({ax, bx, cx}) >= m_cellsX || std::min({ay, by, cy}) >= m_cellsY)) return;
+  const int mx2 = bx + cx, my2 = by + cy;  // doubled hypotenuse midpoint
+  const int sideIndex = (2 * ax > mx2 || (2 * ax == mx2 && 2 * ay > my2)) ? 1 : 0;  // as triangleSide
+  if (isHalfCell(bx, cx)) {
+    const std::size_t cell = std::size_t(std::min(by, cy)) * m_footprint.cells() + std::min(bx, cx);
+    leaf(ax, ay, bx, by, cx, cy, m_leafError.empty() ? 0.0f : m_leafError[2 * cell + sideIndex]);
+    return;
+  }
+  const int mx = mx2 / 2, my = my2 / 2;
+  if (active(mx, my)) {
+    walkTriangle(mx, my, ax, ay, bx, by, active, leaf);
+    walkTriangle(mx, my, cx, cy, ax, ay, active, leaf);
+  } else {
+    const std::size_t v = std::size_t(my) * m_footprint.verticesPerSide() + mx;
+    leaf(ax, ay, bx, by, cx, cy, m_triangleError[2 * v + sideIndex]);
+  }
+}
+
+template <class Active>
+void BlockLod::emit(Active& active, BlockMesh& out, RtinScratch& scratch) const {
+  assert(!m_height.empty() && "BlockLod: extraction from a block that was never built");
+  const int n = m_footprint.cells(), side = n + 1;
+  out.clear();
+  out.footprint = m_footprint;
+  out.cellsX = m_cellsX;
+  out.cellsY = m_cellsY;
+  scratch.prepare(std::size_t(side) * std::size_t(side));
+  std::uint32_t* remap = scratch.m_remap.data();
+
+  auto vertex = [&](int i, int j) {
+    std::uint32_t& slot = remap[std::size_t(j) * side + i];
+    if (slot == kNoVertex) {
+      slot = std::uint32_t(out.vertices.size());
+      out.vertices.push_back(GridVertex{std::uint16_t(i), std::uint16_t(j)});
+    }
+    return slot;
+  };
+  float maxError = 0.0f;
+  auto leaf = [&](int ax, int ay, int bx, int by, int cx, int cy, float err) {
+    // Straddling triangles are always split, so a clipped block's leaves lie wholly inside
+    // or wholly outside.
+    if (m_clipped && !insideRect(Tri{ax, ay, bx, by, cx, cy}, m_cellsX, m_cellsY)) return;
+    out.indices.push_back(vertex(ax, ay));
+    out.indices.push_back(vertex(bx, by));
+    out.indices.push_back(vertex(cx, cy));
+    maxError = std::max(maxError, err);
+  };
+  walk(active, leaf);
+  out.maxError = maxError;
+
+  auto collect = [&](std::vector<std::uint32_t>& list, int i0, int j0, int di, int dj, int steps) {
+    for (int t = 0; t <= steps; ++t) {
+      const std::uint32_t slot = remap[std::size_t(j0 + t * dj) * side + (i0 + t * di)];
+      if (slot != kNoVertex) list.push_back(slot);
+    }
+  };
+  collect(out.edges[int(BlockEdge::South)], 0, 0, 1, 0, m_cellsX);
+  collect(out.edges[int(BlockEdge::East)], m_cellsX, 0, 0, 1, m_cellsY);
+  collect(out.edges[int(BlockEdge::North)], 0, m_cellsY, 1, 0, m_cellsX);
+  collect(out.edges[int(BlockEdge::West)], 0, 0, 0, 1, m_cellsY);
+
+  for (const GridVertex& v : out.vertices) remap[std::size_t(v.j) * side + v.i] = kNoVertex;
+}
+
+void BlockLod::extractThreshold(float maxError, BlockMesh& out, RtinScratch& scratch) const {
+  assert(!std::isnan(maxError) && "BlockLod::extractThreshold: maxError is NaN");
+  const int side = m_footprint.verticesPerSide();
+  auto active = [&](int i, int j) {
+    const float e = m_error[std::size_t(j) * side + i];
+    return e > maxError || e == kForced;
+  };
+  emit(active, out, scratch);
+}
+
+void BlockLod::extractView(const LodView& view, BlockMesh& out, RtinScratch& scratch) const {
+  assert(view.projectionConstant > 0.0 && "BlockLod::extractView: projectionConstant must be positive");
+  assert(view.tolerancePx >= 0.0 && view.nearM >= 0.0 && "BlockLod::extractView: negative tolerance or near");
+  const int side = m_footprint.verticesPerSide();
+  const double k = view.projectionConstant, tau = view.tolerancePx;
+  auto active = [&](int i, int j) {
+    const std::size_t v = std::size_t(j) * side + i;
+    const float e = m_error[v];
+    if (e == kForced) return true;
+    if (!(e > 0.0f)) return false;  // a free vertex never pays for itself
+    const double ex = i * m_vertexSpacingX - view.camera.x, ey = j * m_vertexSpacingY - view.camera.y;
+    const double ez = double(m_height[v]) - view.camera.z;
+    const double distance = std::sqrt(ex * ex + ey * ey + ez * ez);
+    // error > tau * max(d - r, near) / K, without the division
+    return double(e) * k > tau * std::max(distance - double(m_radius[v]), view.nearM);
+  };
+  emit(active, out, scratch);
+}
+
+void BlockLod::extractCount(std::size_t targetTriangles, BlockMesh& out, RtinScratch& scratch) const {
+  assert(!m_height.empty() && "BlockLod::extractCount: block was never built");
+  const int n = m_footprint.cells(), side = n + 1;
+  const std::size_t vertexCount = std::size_t(side) * std::size_t(side);
+  scratch.prepare(vertexCount);
+  std::uint8_t* state = scratch.m_state.data();  // low bits: parents split so far
+  std::fill(state, state + vertexCount, std::uint8_t(0));
+  std::vector<std::uint32_t>& queue = scratch.m_queue;
+  queue.clear();
+  auto larger = [&](std::uint32_t a, std::uint32_t b) { return m_error[a] < m_error[b]; };
+  auto inside = [&](int ax, int ay, int bx, int by, int cx, int cy) {
+    return std::size_t(insideRect(Tri{ax, ay, bx, by, cx, cy}, m_cellsX, m_cellsY));
+  };
+
+  // Candidates are the vertices whose triangles all exist in the current mesh. Errors are
+  // monotone, so the largest candidate is the largest unsplit vertex overall: ROAM's forced
+  // splits of a hypotenuse neighbour have all been made by the time a vertex is taken.
+  std::size_t count = inside(0, 0, n, 0, 0, n) + inside(n, n, 0, n, n, 0);
+  queue.push_back(std::uint32_t((n / 2) * side + n / 2));  // its triangles are the roots
+  while (!queue.empty()) {
+    const std::uint32_t v = queue.front();
+    const float e = m_error[v];
+    if (!(e > 0.0f)) break;  // nothing left lowers the error
+    const int i = int(v % side), j = int(v / side);
+    Tri tris[2];
+    const int trisCount = splitTriangles(i, j, n, tris);
+    std::size_t added = 0, removed = 0;
+    for (int t = 0; t < trisCount; ++t) {
+      const Tri& r = tris[t];
+      added += inside(i, j, r.ax, r.ay, r.bx, r.by) + inside(i, j, r.cx, r.cy, r.ax, r.ay);
+      removed += inside(r.ax, r.ay, r.bx, r.by, r.cx, r.cy);
+    }
+    if (e != kForced && count + added - removed > targetTriangles) break;
+    std::pop_heap(queue.begin(), queue.end(), larger);
+    queue.pop_back();
+    state[v] |= kSplitFlag;
+    count = count + added - removed;
+    for (int t = 0; t < trisCount; ++t) {
+      const Tri& r = tris[t];
+      const int legs[2][4] = {{r.ax, r.ay, r.bx, r.by}, {r.cx, r.cy, r.ax, r.ay}};
+      for (const auto& leg : legs) {
+        if (((leg[0] + leg[2]) & 1) != 0 || ((leg[1] + leg[3]) & 1) != 0) continue;
+        const int ci = (leg[0] + leg[2]) / 2, cj = (leg[1] + leg[3]) / 2;
+        const std::size_t c = std::size_t(cj) * side + ci;
+        if (++state[c] == splitTriangleCount(ci, cj, n)) {
+          queue.push_back(std::uint32_t(c));
+          std::push_heap(queue.begin(), queue.end(), larger);
+        }
+      }
+    }
+  }
+  auto active = [&](int ai, int aj) { return (state[std::size_t(aj) * side + ai] & kSplitFlag) != 0; };
+  emit(active, out, scratch);
+}
+
+}  // namespace polder::terrain

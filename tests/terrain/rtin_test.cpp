@@ -1,0 +1,600 @@
+// Per-block LOD (rtin.hpp): exact and monotone errors, nested radii, conforming meshes from
+// every extraction, honest reported errors, the view-dependent bound, clipped blocks.
+// Everything is checked against brute force written here, independently of rtin.cpp.
+#include <polder/terrain/rtin.hpp>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <numeric>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace polder::terrain {
+namespace {
+
+enum class Shape { Flat, Plane, Random, Sines, Fractal };
+
+const char* shapeName(Shape shape) {
+  switch (shape) {
+    case Shape::Flat: return "flat";
+    case Shape::Plane: return "plane";
+    case Shape::Random: return "random";
+    case Shape::Sines: return "sines";
+    case Shape::Fractal: return "fractal";
+  }
+  return "?";
+}
+
+// Value noise: octaves of bilinearly interpolated random lattices, hills without erosion.
+float fractalAt(const std::vector<std::vector<float>>& lattices, int x, int y) {
+  float sum = 0.0f;
+  for (std::size_t o = 0; o < lattices.size(); ++o) {
+    const int period = 64 >> o;
+    const int side = 1024 / period + 2;
+    const int gx = x / period, gy = y / period;
+    const float fx = float(x % period) / period, fy = float(y % period) / period;
+    const auto& l = lattices[o];
+    const float v00 = l[gy * side + gx], v10 = l[gy * side + gx + 1];
+    const float v01 = l[(gy + 1) * side + gx], v11 = l[(gy + 1) * side + gx + 1];
+    const float v0 = v00 + (v10 - v00) * fx, v1 = v01 + (v11 - v01) * fx;
+    sum += (v0 + (v1 - v0) * fy) * (120.0f / float(1 << o));
+  }
+  return sum;
+}
+
+Heightfield makeField(Shape shape, int width, int height, unsigned seed, double sx = 10.0, double sy = 10.0) {
+  Heightfield field(width, height, sx, sy);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<std::vector<float>> lattices;
+  if (shape == Shape::Fractal) {
+    for (int o = 0; o < 6; ++o) {
+      const int side = 1024 / (64 >> o) + 2;
+      std::vector<float> l(std::size_t(side) * side);
+      for (float& v : l) v = unit(rng);
+      lattices.push_back(std::move(l));
+    }
+  }
+  const float phase = unit(rng) * 6.0f;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      float h = 0.0f;
+      switch (shape) {
+        case Shape::Flat: h = 12.5f; break;
+        case Shape::Plane: h = float(x + 2 * y); break;  // exact in float: a true plane
+        case Shape::Random: h = 100.0f * unit(rng); break;
+        case Shape::Sines:
+          h = 40.0f * std::sin(0.05f * x + phase) + 25.0f * std::cos(0.083f * y - 0.3f * phase) +
+              6.0f * std::sin(0.31f * (x + y)) + 2.0f * std::sin(1.7f * x - 0.9f * y);
+          break;
+        // A last octave of per-sample jitter: bilinear octaves alone are exactly planar
+        // along many lines, which makes vertices free.
+        case Shape::Fractal: h = fractalAt(lattices, x, y) + 0.5f * unit(rng); break;
+      }
+      field.at(x, y) = h;
+    }
+  }
+  return field;
+}
+
+struct P2 {
+  long long x, y;
+};
+
+long long cross(P2 o, P2 a, P2 b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); }
+
+// Full-resolution corners of block-local vertex (i, j).
+P2 fullRes(const BlockFootprint& fp, int i, int j) {
+  return {fp.x0 + (long long)i * fp.stride, fp.y0 + (long long)j * fp.stride};
+}
+
+// Brute force: largest vertical distance between the plane through the triangle's full-resolution
+// corners and every full-resolution sample in the closed triangle.
+double bruteError(const Heightfield& field, const BlockFootprint& fp, GridVertex a, GridVertex b, GridVertex c) {
+  const P2 pa = fullRes(fp, a.i, a.j), pb = fullRes(fp, b.i, b.j), pc = fullRes(fp, c.i, c.j);
+  const long long area2 = cross(pa, pb, pc);
+  const double za = field.at(int(pa.x), int(pa.y)), zb = field.at(int(pb.x), int(pb.y)),
+               zc = field.at(int(pc.x), int(pc.y));
+  const long long x0 = std::min({pa.x, pb.x, pc.x}), x1 = std::max({pa.x, pb.x, pc.x});
+  const long long y0 = std::min({pa.y, pb.y, pc.y}), y1 = std::max({pa.y, pb.y, pc.y});
+  double err = 0.0;
+  for (long long y = y0; y <= y1; ++y) {
+    for (long long x = x0; x <= x1; ++x) {
+      const P2 p{x, y};
+      const long long wa = cross(pb, pc, p), wb = cross(pc, pa, p), wc = cross(pa, pb, p);
+      if (area2 > 0 ? (wa < 0 || wb < 0 || wc < 0) : (wa > 0 || wb > 0 || wc > 0)) continue;
+      const double plane = (wa * za + wb * zb + wc * zc) / double(area2);
+      err = std::max(err, std::fabs(double(field.at(int(x), int(y))) - plane));
+    }
+  }
+  return err;
+}
+
+double tolerance(double value) { return 1e-6 + 1e-6 * std::fabs(value); }
+
+glm::dvec3 worldRelative(const Heightfield& field, const BlockFootprint& fp, long long x, long long y) {
+  return {(x - fp.x0) * field.spacingX, (y - fp.y0) * field.spacingY, double(field.at(int(x), int(y)))};
+}
+
+// Closest distance from p to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
+double pointTriangleDistance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
+  const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return glm::length(p - a);
+  const glm::dvec3 bp = p - b;
+  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return glm::length(p - b);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return glm::length(p - (a + ab * (d1 / (d1 - d3))));
+  const glm::dvec3 cp = p - c;
+  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return glm::length(p - c);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return glm::length(p - (a + ac * (d2 / (d2 - d6))));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return glm::length(p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+  const double denom = 1.0 / (va + vb + vc);
+  return glm::length(p - (a + ab * (vb * denom) + ac * (vc * denom)));
+}
+
+// Conformity: the triangles are counter-clockwise, tile [0, cellsX] x [0, cellsY] exactly once,
+// share every interior edge with exactly one other triangle, have no vertex inside another's
+// edge; the side lists are the sorted mesh vertices on each side, corners included.
+void expectConforming(const BlockMesh& mesh) {
+  const int cx = mesh.cellsX, cy = mesh.cellsY;
+  ASSERT_GT(cx, 0);
+  ASSERT_GT(cy, 0);
+  ASSERT_EQ(mesh.indices.size() % 3, 0u);
+  const int side = mesh.footprint.verticesPerSide();
+  std::vector<int> at(std::size_t(side) * side, -1);
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const GridVertex g = mesh.vertices[v];
+    ASSERT_LE(g.i, cx);
+    ASSERT_LE(g.j, cy);
+    ASSERT_EQ(at[g.j * side + g.i], -1) << "duplicate vertex " << g.i << "," << g.j;
+    at[g.j * side + g.i] = int(v);
+  }
+  std::vector<int> used(mesh.vertices.size(), 0);
+  std::vector<int> cover(std::size_t(cx) * cy * 4, 0);
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  long long area2Sum = 0;
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    std::uint32_t id[3];
+    P2 p[3];
+    for (int c = 0; c < 3; ++c) {
+      id[c] = mesh.indices[3 * t + c];
+      ASSERT_LT(id[c], mesh.vertices.size());
+      used[id[c]] = 1;
+      p[c] = {mesh.vertices[id[c]].i, mesh.vertices[id[c]].j};
+    }
+    const long long area2 = cross(p[0], p[1], p[2]);
+    ASSERT_GT(area2, 0) << "triangle " << t << " is not counter-clockwise";
+    area2Sum += area2;
+    // Coverage at four points per cell (quadrupled coordinates), never on any bintree edge.
+    const long long x0 = std::min({p[0].x, p[1].x, p[2].x}), x1 = std::max({p[0].x, p[1].x, p[2].x});
+    const long long y0 = std::min({p[0].y, p[1].y, p[2].y}), y1 = std::max({p[0].y, p[1].y, p[2].y});
+    const P2 q[3] = {{4 * p[0].x, 4 * p[0].y}, {4 * p[1].x, 4 * p[1].y}, {4 * p[2].x, 4 * p[2].y}};
+    for (long long y = y0; y < y1; ++y) {
+      for (long long x = x0; x < x1; ++x) {
+        const P2 pts[4] = {
+            {4 * x + 1, 4 * y + 2}, {4 * x + 3, 4 * y + 2}, {4 * x + 2, 4 * y + 1}, {4 * x + 2, 4 * y + 3}};
+        for (int k = 0; k < 4; ++k) {
+          if (cross(q[0], q[1], pts[k]) > 0 && cross(q[1], q[2], pts[k]) > 0 && cross(q[2], q[0], pts[k]) > 0)
+            ++cover[(y * cx + x) * 4 + k];
+        }
+      }
+    }
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t u = id[e], v = id[(e + 1) % 3];
+      ASSERT_EQ(directed[std::make_pair(u, v)]++, 0) << "directed edge used twice";
+      // No mesh vertex strictly inside this edge (no T-junction).
+      const P2 a = p[e], b = p[(e + 1) % 3];
+      const long long dx = b.x - a.x, dy = b.y - a.y;
+      const long long g = std::gcd(std::llabs(dx), std::llabs(dy));
+      for (long long s = 1; s < g; ++s) {
+        const long long x = a.x + s * dx / g, y = a.y + s * dy / g;
+        ASSERT_EQ(at[y * side + x], -1) << "T-junction at " << x << "," << y;
+      }
+    }
+  }
+  EXPECT_EQ(area2Sum, 2LL * cx * cy);
+  for (std::size_t c = 0; c < cover.size(); ++c) ASSERT_EQ(cover[c], 1) << "cell point " << c << " covered wrongly";
+  for (std::size_t v = 0; v < used.size(); ++v) ASSERT_EQ(used[v], 1) << "unused vertex " << v;
+  for (const auto& [edge, count] : directed) {
+    if (directed.count({edge.second, edge.first}) != 0) continue;
+    const GridVertex a = mesh.vertices[edge.first], b = mesh.vertices[edge.second];
+    const bool onSide = (a.i == 0 && b.i == 0) || (a.i == cx && b.i == cx) || (a.j == 0 && b.j == 0) ||
+                        (a.j == cy && b.j == cy);
+    ASSERT_TRUE(onSide) << "interior edge with one triangle: " << a.i << "," << a.j << " - " << b.i << "," << b.j;
+  }
+  // Side lists.
+  auto expectSide = [&](BlockEdge which, int i0, int j0, int di, int dj, int steps) {
+    std::vector<std::uint32_t> expected;
+    for (int s = 0; s <= steps; ++s) {
+      const int v = at[(j0 + s * dj) * side + (i0 + s * di)];
+      if (v >= 0) expected.push_back(std::uint32_t(v));
+    }
+    EXPECT_EQ(mesh.edge(which), expected) << "side " << int(which);
+    ASSERT_GE(mesh.edge(which).size(), 2u);
+    const GridVertex first = mesh.vertices[mesh.edge(which).front()], last = mesh.vertices[mesh.edge(which).back()];
+    EXPECT_TRUE(first.i == i0 && first.j == j0) << "side " << int(which) << " misses its first corner";
+    EXPECT_TRUE(last.i == i0 + steps * di && last.j == j0 + steps * dj) << "side " << int(which) << " misses a corner";
+  };
+  expectSide(BlockEdge::South, 0, 0, 1, 0, cx);
+  expectSide(BlockEdge::East, cx, 0, 0, 1, cy);
+  expectSide(BlockEdge::North, 0, cy, 1, 0, cx);
+  expectSide(BlockEdge::West, 0, 0, 0, 1, cy);
+}
+
+// Every triangle's brute-force error is within the reported mesh error, which is their maximum.
+void expectHonest(const Heightfield& field, const BlockMesh& mesh) {
+  double worst = 0.0;
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    const GridVertex a = mesh.vertices[mesh.indices[3 * t]], b = mesh.vertices[mesh.indices[3 * t + 1]],
+                     c = mesh.vertices[mesh.indices[3 * t + 2]];
+    const double err = bruteError(field, mesh.footprint, a, b, c);
+    ASSERT_LE(err, double(mesh.maxError)) << "triangle " << t << " hides more error than reported";
+    worst = std::max(worst, err);
+  }
+  EXPECT_NEAR(worst, double(mesh.maxError), tolerance(worst)) << "reported error is not the mesh's";
+}
+
+// Walks the bintree (written here independently) and checks every triangle and vertex.
+void expectHierarchy(const Heightfield& field, const BlockLod& lod) {
+  const BlockFootprint& fp = lod.footprint();
+  const int n = fp.cells();
+  std::vector<std::vector<int>> pending = {{0, 0, n, 0, 0, n}, {n, n, 0, n, n, 0}};
+  int checked = 0;
+  while (!pending.empty()) {
+    const std::vector<int> t = pending.back();
+    pending.pop_back();
+    const GridVertex a{std::uint16_t(t[0]), std::uint16_t(t[1])}, b{std::uint16_t(t[2]), std::uint16_t(t[3])},
+                     c{std::uint16_t(t[4]), std::uint16_t(t[5])};
+    const bool inside = std::max({a.i, b.i, c.i}) <= lod.cellsX() && std::max({a.j, b.j, c.j}) <= lod.cellsY();
+    const float stored = lod.triangleError(a, b, c);
+    if (inside) {
+      const double brute = bruteError(field, fp, a, b, c);
+      ASSERT_GE(double(stored), brute) << "triangle error below the exact error";
+      ASSERT_LE(double(stored), brute + tolerance(brute)) << "triangle error not exact";
+    }
+    if (std::abs(b.i - c.i) == 1) continue;  // half cell: a leaf
+    ++checked;
+    const int mi = (b.i + c.i) / 2, mj = (b.j + c.j) / 2;
+    const double em = lod.vertexError(mi, mj), rm = lod.vertexRadius(mi, mj);
+    ASSERT_GE(em, double(stored)) << "vertex error below its triangle's";
+    const glm::dvec3 pm = lod.position(mi, mj);
+    if (inside) {
+      // The sphere holds the triangle's corners and the samples under it.
+      for (GridVertex v : {a, b, c}) ASSERT_LE(glm::length(lod.position(v.i, v.j) - pm), rm);
+      const P2 pa = fullRes(fp, a.i, a.j), pb = fullRes(fp, b.i, b.j), pc = fullRes(fp, c.i, c.j);
+      for (long long y = std::min({pa.y, pb.y, pc.y}); y <= std::max({pa.y, pb.y, pc.y}); ++y) {
+        for (long long x = std::min({pa.x, pb.x, pc.x}); x <= std::max({pa.x, pb.x, pc.x}); ++x) {
+          const P2 p{x, y};
+          if (cross(pa, pb, p) < 0 || cross(pb, pc, p) < 0 || cross(pc, pa, p) < 0) continue;
+          ASSERT_LE(glm::length(worldRelative(field, fp, x, y) - pm), rm) << "sample outside the sphere";
+        }
+      }
+    }
+    const int children[2][6] = {{mi, mj, a.i, a.j, b.i, b.j}, {mi, mj, c.i, c.j, a.i, a.j}};
+    for (const auto& child : children) {
+      pending.push_back(std::vector<int>(child, child + 6));
+      const int sx = child[4] + child[2], sy = child[5] + child[3];
+      if ((sx & 1) || (sy & 1)) continue;  // the child is a half cell
+      const int ci = sx / 2, cj = sy / 2;
+      // Monotone errors and nested spheres (nesting with every descendant follows from the
+      // triangle inequality).
+      ASSERT_GE(em, double(lod.vertexError(ci, cj))) << "error not monotone at " << mi << "," << mj;
+      ASSERT_GE(rm, glm::length(lod.position(ci, cj) - pm) + lod.vertexRadius(ci, cj))
+          << "radius not nested at " << mi << "," << mj;
+    }
+  }
+  EXPECT_EQ(checked, 2 * (n * n - 1));
+}
+
+struct Block {
+  Heightfield field;
+  BlockLod lod;
+};
+
+Block makeBlock(Shape shape, int k, int stride, unsigned seed) {
+  const int n = 1 << k;
+  Block block;
+  block.field = makeField(shape, n * stride + 1 + 3 + 5, n * stride + 1 + 2 + 4, seed);
+  auto built = BlockLod::build(block.field, BlockFootprint{3, 2, k, stride});
+  EXPECT_TRUE(built.ok()) << (built.ok() ? "" : built.error().message);
+  if (built.ok()) block.lod = std::move(built).value();
+  return block;
+}
+
+struct Config {
+  Shape shape;
+  int k;
+  int stride;
+};
+
+std::string configName(const testing::TestParamInfo<Config>& info) {
+  return std::string(shapeName(info.param.shape)) + "_k" + std::to_string(info.param.k) + "_s" +
+         std::to_string(info.param.stride);
+}
+
+class RtinBlockTest : public testing::TestWithParam<Config> {};
+
+TEST_P(RtinBlockTest, ErrorsAreExactMonotoneAndNested) {
+  const Config cfg = GetParam();
+  const Block block = makeBlock(cfg.shape, cfg.k, cfg.stride, 17u + cfg.k);
+  expectHierarchy(block.field, block.lod);
+  // The node error is the two root triangles' exact error.
+  const int n = 1 << cfg.k;
+  const BlockFootprint& fp = block.lod.footprint();
+  const double roots = std::max(bruteError(block.field, fp, {0, 0}, {std::uint16_t(n), 0}, {0, std::uint16_t(n)}),
+                                bruteError(block.field, fp, {std::uint16_t(n), std::uint16_t(n)}, {0, std::uint16_t(n)},
+                                           {std::uint16_t(n), 0}));
+  EXPECT_GE(double(block.lod.maxError()), roots);
+  EXPECT_NEAR(double(block.lod.maxError()), roots, tolerance(roots));
+  if (cfg.stride == 1) {
+    EXPECT_EQ(block.lod.floorError(), 0.0f);
+  }
+}
+
+TEST_P(RtinBlockTest, ThresholdExtractionIsConformingAndHonest) {
+  const Config cfg = GetParam();
+  const Block block = makeBlock(cfg.shape, cfg.k, cfg.stride, 29u + cfg.k);
+  BlockMesh mesh;
+  RtinScratch scratch;
+  const float top = block.lod.maxError();
+  std::size_t previous = 0;
+  for (float fraction : {2.0f, 1.0f, 0.5f, 0.2f, 0.05f, 0.01f, 0.0f}) {
+    const float threshold = top * fraction;
+    block.lod.extractThreshold(threshold, mesh, scratch);
+    SCOPED_TRACE("threshold " + std::to_string(threshold) + ", " + std::to_string(mesh.triangleCount()) + " triangles");
+    expectConforming(mesh);
+    expectHonest(block.field, mesh);
+    if (cfg.stride == 1) {
+      EXPECT_LE(mesh.maxError, threshold);
+    } else {
+      EXPECT_LE(mesh.maxError, std::max(threshold, block.lod.floorError()));
+    }
+    EXPECT_GE(mesh.triangleCount(), previous);
+    previous = mesh.triangleCount();
+  }
+  EXPECT_EQ(mesh.triangleCount(), std::size_t(2) << (2 * cfg.k));  // threshold 0 on rough ground
+  block.lod.extractThreshold(-1.0f, mesh, scratch);
+  EXPECT_EQ(mesh.triangleCount(), std::size_t(2) << (2 * cfg.k));
+  EXPECT_EQ(mesh.vertices.size(), blockMeshVertexBound(cfg.k));
+  EXPECT_EQ(mesh.maxError, block.lod.floorError());
+  block.lod.extractThreshold(FLT_MAX, mesh, scratch);
+  EXPECT_EQ(mesh.triangleCount(), 2u);
+  EXPECT_EQ(mesh.maxError, block.lod.maxError());
+}
+
+TEST_P(RtinBlockTest, CountExtractionMeetsTheTarget) {
+  const Config cfg = GetParam();
+  const Block block = makeBlock(cfg.shape, cfg.k, cfg.stride, 31u + cfg.k);
+  const std::size_t full = std::size_t(2) << (2 * cfg.k);
+  BlockMesh mesh;
+  RtinScratch scratch;
+  for (std::size_t target : {std::size_t(0), std::size_t(2), std::size_t(3), std::size_t(10), std::size_t(57),
+                             std::size_t(200), full / 3, full - 1, full, full + 10}) {
+    block.lod.extractCount(target, mesh, scratch);
+    SCOPED_TRACE("target " + std::to_string(target) + ", got " + std::to_string(mesh.triangleCount()));
+    expectConforming(mesh);
+    expectHonest(block.field, mesh);
+    const std::size_t expected = std::max<std::size_t>(2, std::min(target, full));
+    EXPECT_LE(mesh.triangleCount(), expected);
+    EXPECT_GE(mesh.triangleCount() + 1, expected);  // a split adds one or two triangles
+  }
+}
+
+// Greedy refinement by monotone errors passes through every threshold mesh: asked for the
+// triangle count of a threshold mesh, it returns that mesh.
+TEST_P(RtinBlockTest, CountExtractionMatchesThresholdMeshes) {
+  const Config cfg = GetParam();
+  const Block block = makeBlock(cfg.shape, cfg.k, cfg.stride, 41u + cfg.k);
+  BlockMesh byThreshold, byCount;
+  RtinScratch scratch;
+  for (float fraction : {0.5f, 0.1f, 0.02f}) {
+    const float threshold = block.lod.maxError() * fraction;
+    block.lod.extractThreshold(threshold, byThreshold, scratch);
+    block.lod.extractCount(byThreshold.triangleCount(), byCount, scratch);
+    EXPECT_EQ(byCount.triangleCount(), byThreshold.triangleCount()) << "threshold " << threshold;
+    EXPECT_EQ(byCount.maxError, byThreshold.maxError) << "threshold " << threshold;
+  }
+}
+
+TEST_P(RtinBlockTest, ViewExtractionKeepsProjectedErrorWithinTolerance) {
+  const Config cfg = GetParam();
+  const Block block = makeBlock(cfg.shape, cfg.k, cfg.stride, 37u + cfg.k);
+  const BlockLod& lod = block.lod;
+  const double extentX = lod.footprint().cells() * lod.footprint().stride * block.field.spacingX;
+  const double extentY = lod.footprint().cells() * lod.footprint().stride * block.field.spacingY;
+  std::mt19937 rng(99u + cfg.k * 7u + cfg.stride);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  BlockMesh mesh;
+  RtinScratch scratch;
+  const double kConstant = 720.0 / (2.0 * std::tan(glm::radians(30.0)));
+  int refinedSomewhere = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    LodView view;
+    view.camera = {(unit(rng) * 2.0 - 0.5) * extentX, (unit(rng) * 2.0 - 0.5) * extentY,
+                   lod.maxHeight() + 2.0 + unit(rng) * (trial < 6 ? 30.0 : 600.0)};
+    view.projectionConstant = kConstant;
+    view.tolerancePx = trial % 3 == 0 ? 0.5 : (trial % 3 == 1 ? 2.0 : 8.0);
+    view.nearM = 1.0;
+    lod.extractView(view, mesh, scratch);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ", " + std::to_string(mesh.triangleCount()) + " triangles");
+    expectConforming(mesh);
+    expectHonest(block.field, mesh);
+    refinedSomewhere += mesh.triangleCount() > 2;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+      const GridVertex a = mesh.vertices[mesh.indices[3 * t]], b = mesh.vertices[mesh.indices[3 * t + 1]],
+                       c = mesh.vertices[mesh.indices[3 * t + 2]];
+      if (std::abs(b.i - c.i) == 1) continue;  // a half cell: only a finer quadtree level refines it
+      const double err = bruteError(block.field, lod.footprint(), a, b, c);
+      const double distance = pointTriangleDistance(view.camera, lod.position(a.i, a.j), lod.position(b.i, b.j),
+                                                    lod.position(c.i, c.j));
+      const double projected = kConstant * err / std::max(distance, view.nearM);
+      ASSERT_LE(projected, view.tolerancePx * (1.0 + 1e-9)) << "triangle " << t;
+    }
+  }
+  EXPECT_GT(refinedSomewhere, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Blocks, RtinBlockTest,
+                         testing::Values(Config{Shape::Random, 4, 1}, Config{Shape::Random, 4, 4},
+                                         Config{Shape::Sines, 5, 1}, Config{Shape::Sines, 5, 4},
+                                         Config{Shape::Fractal, 5, 1}, Config{Shape::Fractal, 4, 4},
+                                         Config{Shape::Fractal, 6, 1}, Config{Shape::Sines, 6, 4}),
+                         configName);
+
+TEST(Rtin, FlatBlockIsTwoTriangles) {
+  for (int k : {4, 5, 6}) {
+    for (int stride : {1, 4}) {
+      const Block block = makeBlock(Shape::Flat, k, stride, 1u);
+      EXPECT_EQ(block.lod.maxError(), 0.0f);
+      EXPECT_EQ(block.lod.floorError(), 0.0f);
+      BlockMesh mesh;
+      RtinScratch scratch;
+      block.lod.extractThreshold(0.0f, mesh, scratch);
+      EXPECT_EQ(mesh.triangleCount(), 2u);
+      expectConforming(mesh);
+      EXPECT_EQ(mesh.edge(BlockEdge::South).size(), 2u);
+      block.lod.extractCount(1000, mesh, scratch);
+      EXPECT_EQ(mesh.triangleCount(), 2u);  // no split lowers the error
+      block.lod.extractView(LodView{glm::dvec3(5.0, 5.0, 20.0), 1000.0, 0.1, 1.0}, mesh, scratch);
+      EXPECT_EQ(mesh.triangleCount(), 2u);
+      block.lod.extractThreshold(-1.0f, mesh, scratch);
+      EXPECT_EQ(mesh.triangleCount(), std::size_t(2) << (2 * k));
+    }
+  }
+}
+
+TEST(Rtin, LargestBlocksStayConforming) {
+  const Block block = makeBlock(Shape::Sines, 7, 1, 8u);
+  BlockMesh mesh;
+  RtinScratch scratch;
+  block.lod.extractThreshold(0.05f, mesh, scratch);
+  expectConforming(mesh);
+  expectHonest(block.field, mesh);
+  EXPECT_LE(mesh.maxError, 0.05f);
+  block.lod.extractCount(5000, mesh, scratch);
+  expectConforming(mesh);
+  EXPECT_LE(mesh.triangleCount(), 5000u);
+  EXPECT_GE(mesh.triangleCount(), 4999u);
+}
+
+TEST(Rtin, TiltedPlaneIsTwoTriangles) {
+  const Block block = makeBlock(Shape::Plane, 5, 2, 1u);
+  EXPECT_EQ(block.lod.maxError(), 0.0f);
+  BlockMesh mesh;
+  RtinScratch scratch;
+  block.lod.extractThreshold(0.0f, mesh, scratch);
+  EXPECT_EQ(mesh.triangleCount(), 2u);
+}
+
+TEST(Rtin, AnisotropicSpacingKeepsRadiiNested) {
+  Heightfield field = makeField(Shape::Fractal, 70, 70, 5u, 30.0, 7.5);
+  auto built = BlockLod::build(field, BlockFootprint{1, 4, 5, 2});
+  ASSERT_TRUE(built.ok());
+  expectHierarchy(field, *built);
+}
+
+// A block that runs past the field's east and north edges keeps its valid rectangle.
+class RtinClippedTest : public testing::TestWithParam<int> {};
+
+TEST_P(RtinClippedTest, ClippedBlockTilesItsValidRectangle) {
+  const int stride = GetParam();
+  const int k = 5;
+  // 11 + 2/stride cells east, 19 north, plus a remainder narrower than the stride.
+  const int x0 = 8, y0 = 3;
+  Heightfield field = makeField(Shape::Fractal, x0 + 11 * stride + 1 + (stride - 1), y0 + 19 * stride + 1, 77u);
+  auto built = BlockLod::build(field, BlockFootprint{x0, y0, k, stride});
+  ASSERT_TRUE(built.ok()) << built.error().message;
+  const BlockLod& lod = *built;
+  EXPECT_TRUE(lod.clipped());
+  EXPECT_EQ(lod.cellsX(), 11);
+  EXPECT_EQ(lod.cellsY(), 19);
+  expectHierarchy(field, lod);
+  EXPECT_TRUE(std::isinf(lod.vertexError(16, 16)));  // the root split straddles the border
+
+  BlockMesh mesh;
+  RtinScratch scratch;
+  lod.extractThreshold(FLT_MAX, mesh, scratch);  // only the forced splits
+  expectConforming(mesh);
+  expectHonest(field, mesh);
+  EXPECT_EQ(mesh.maxError, lod.maxError());
+  const std::size_t coarsest = mesh.triangleCount();
+  for (float threshold : {10.0f, 1.0f, 0.1f, 0.0f, -1.0f}) {
+    lod.extractThreshold(threshold, mesh, scratch);
+    SCOPED_TRACE("threshold " + std::to_string(threshold));
+    expectConforming(mesh);
+    expectHonest(field, mesh);
+    EXPECT_LE(mesh.maxError, std::max(std::max(threshold, 0.0f), lod.floorError()));
+  }
+  EXPECT_EQ(mesh.triangleCount(), 2u * 11u * 19u);
+  for (std::size_t target : {std::size_t(0), coarsest + 1, std::size_t(100), std::size_t(300), std::size_t(1000)}) {
+    lod.extractCount(target, mesh, scratch);
+    SCOPED_TRACE("target " + std::to_string(target));
+    expectConforming(mesh);
+    expectHonest(field, mesh);
+    const std::size_t expected = std::max(coarsest, std::min<std::size_t>(target, 2u * 11u * 19u));
+    EXPECT_LE(mesh.triangleCount(), expected);
+    EXPECT_GE(mesh.triangleCount() + 1, expected);
+  }
+  LodView view{glm::dvec3(40.0, 60.0, lod.maxHeight() + 20.0), 600.0, 1.0, 1.0};
+  lod.extractView(view, mesh, scratch);
+  expectConforming(mesh);
+  expectHonest(field, mesh);
+}
+
+INSTANTIATE_TEST_SUITE_P(Strides, RtinClippedTest, testing::Values(1, 4));
+
+TEST(Rtin, SteadyStateExtractionDoesNotAllocate) {
+  const Block block = makeBlock(Shape::Fractal, 5, 1, 3u);
+  BlockMesh mesh;
+  RtinScratch scratch;
+  mesh.reserve(5);
+  scratch.reserve(5);
+  const GridVertex* vertices = mesh.vertices.data();
+  const std::uint32_t* indices = mesh.indices.data();
+  const std::uint32_t* south = mesh.edge(BlockEdge::South).data();
+  block.lod.extractThreshold(-1.0f, mesh, scratch);
+  block.lod.extractCount(500, mesh, scratch);
+  block.lod.extractView(LodView{glm::dvec3(100.0, 50.0, 300.0), 600.0, 1.0, 1.0}, mesh, scratch);
+  block.lod.extractThreshold(0.0f, mesh, scratch);
+  EXPECT_EQ(mesh.vertices.data(), vertices);
+  EXPECT_EQ(mesh.indices.data(), indices);
+  EXPECT_EQ(mesh.edge(BlockEdge::South).data(), south);
+}
+
+TEST(Rtin, RebuildReusesTheObject) {
+  const Heightfield a = makeField(Shape::Sines, 40, 40, 1u), b = makeField(Shape::Random, 40, 40, 2u);
+  BlockLod lod;
+  ASSERT_TRUE(lod.rebuild(a, BlockFootprint{0, 0, 5, 1}).ok());
+  const float before = lod.maxError();
+  ASSERT_TRUE(lod.rebuild(b, BlockFootprint{2, 3, 5, 1}).ok());
+  EXPECT_NE(lod.maxError(), before);
+  expectHierarchy(b, lod);
+}
+
+TEST(Rtin, BadBlocksReturnErrors) {
+  Heightfield field = makeField(Shape::Sines, 20, 20, 1u);
+  auto outside = BlockLod::build(field, BlockFootprint{19, 0, 4, 1});
+  ASSERT_FALSE(outside.ok());
+  EXPECT_EQ(outside.error().kind, ErrorKind::InvalidArgument);
+  auto tooCoarse = BlockLod::build(field, BlockFootprint{0, 0, 4, 32});  // no whole cell
+  ASSERT_FALSE(tooCoarse.ok());
+  field.at(3, 4) = std::nanf("");
+  auto noData = BlockLod::build(field, BlockFootprint{0, 0, 4, 1});
+  ASSERT_FALSE(noData.ok());
+  EXPECT_EQ(noData.error().kind, ErrorKind::InvalidData);
+}
+
+}  // namespace
+}  // namespace polder::terrain
