@@ -46,13 +46,35 @@ std::uint64_t floodKey(float height, std::uint32_t index) {
   return (std::uint64_t(ordered) << 32) | index;
 }
 
-using MinHeap = std::priority_queue<std::uint64_t, std::vector<std::uint64_t>, std::greater<>>;
+// The open set of a Priority-Flood (Barnes et al. 2014): a min-heap by height, plus a FIFO
+// for samples inside a depression, which drain before the heap's next sample.
+class FloodQueue {
+ public:
+  explicit FloodQueue(std::size_t capacity) {
+    std::vector<std::uint64_t> storage;
+    storage.reserve(capacity);
+    m_heap = MinHeap(std::greater<>(), std::move(storage));
+  }
+  void push(float height, std::uint32_t index) { m_heap.push(floodKey(height, index)); }
+  void pushPit(std::uint32_t index) { m_pit.push_back(index); }
+  bool empty() const { return m_heap.empty() && m_pitHead == m_pit.size(); }
+  std::uint32_t pop() {
+    if (m_pitHead < m_pit.size()) {
+      const std::uint32_t c = m_pit[m_pitHead++];
+      if (m_pitHead == m_pit.size()) m_pit.clear(), m_pitHead = 0;
+      return c;
+    }
+    const auto c = std::uint32_t(m_heap.top());
+    m_heap.pop();
+    return c;
+  }
 
-MinHeap makeHeap(std::size_t capacity) {
-  std::vector<std::uint64_t> storage;
-  storage.reserve(capacity);
-  return MinHeap(std::greater<>(), std::move(storage));
-}
+ private:
+  using MinHeap = std::priority_queue<std::uint64_t, std::vector<std::uint64_t>, std::greater<>>;
+  MinHeap m_heap;
+  std::vector<std::uint32_t> m_pit;
+  std::size_t m_pitHead = 0;  // next FIFO entry
+};
 
 // Grid geometry shared by the stages: neighbour index offsets and distances in metres.
 struct Grid {
@@ -89,27 +111,18 @@ void routeFlow(const Heightfield& field, const Grid& grid, Drainage& out) {
   out.order.clear();
   out.order.reserve(n);
   out.filled.assign(field.heights.begin(), field.heights.end());
-  MinHeap heap = makeHeap(std::size_t(2 * (w + h)));
-  std::vector<std::uint32_t> pit;  // FIFO: pitHead indexes the next one
-  std::size_t pitHead = 0;
+  FloodQueue queue(std::size_t(2 * (w + h)));
 
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       if (grid.onBorder(x, y)) {
         const auto i = std::uint32_t(field.index(x, y));
         out.direction[i] = kOutlet;
-        heap.push(floodKey(out.filled[i], i));
+        queue.push(out.filled[i], i);
       }
 
-  while (!heap.empty() || pitHead < pit.size()) {
-    std::uint32_t c;
-    if (pitHead < pit.size()) {
-      c = pit[pitHead++];
-      if (pitHead == pit.size()) pit.clear(), pitHead = 0;
-    } else {
-      c = std::uint32_t(heap.top());
-      heap.pop();
-    }
+  while (!queue.empty()) {
+    const std::uint32_t c = queue.pop();
     out.order.push_back(c);
     const int cx = int(c % std::uint32_t(w)), cy = int(c / std::uint32_t(w));
     const float level = out.filled[c];
@@ -121,9 +134,9 @@ void routeFlow(const Heightfield& field, const Grid& grid, Drainage& out) {
       out.direction[nb] = std::uint8_t((k + 4) & 7);  // towards c
       if (out.filled[nb] <= level) {
         out.filled[nb] = level;
-        pit.push_back(nb);
+        queue.pushPit(nb);
       } else {
-        heap.push(floodKey(out.filled[nb], nb));
+        queue.push(out.filled[nb], nb);
       }
     }
   }
@@ -449,26 +462,17 @@ void fillDepressions(Heightfield& field) {
   const Grid grid(field);
   const std::size_t n = field.sampleCount();
   std::vector<std::uint8_t> visited(n, 0);
-  MinHeap heap = makeHeap(std::size_t(2 * (w + h)));
-  std::vector<std::uint32_t> pit;
-  std::size_t pitHead = 0;
+  FloodQueue queue(std::size_t(2 * (w + h)));
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       if (grid.onBorder(x, y)) {
         const auto i = std::uint32_t(field.index(x, y));
         visited[i] = 1;
-        heap.push(floodKey(field.heights[i], i));
+        queue.push(field.heights[i], i);
       }
   constexpr float kEpsilonM = 0.001f;
-  while (!heap.empty() || pitHead < pit.size()) {
-    std::uint32_t c;
-    if (pitHead < pit.size()) {
-      c = pit[pitHead++];
-      if (pitHead == pit.size()) pit.clear(), pitHead = 0;
-    } else {
-      c = std::uint32_t(heap.top());
-      heap.pop();
-    }
+  while (!queue.empty()) {
+    const std::uint32_t c = queue.pop();
     const int cx = int(c % std::uint32_t(w)), cy = int(c / std::uint32_t(w));
     // Strictly above c even where a millimetre is below the float's resolution.
     const float level = field.heights[c];
@@ -481,9 +485,9 @@ void fillDepressions(Heightfield& field) {
       visited[nb] = 1;
       if (field.heights[nb] < raised) {
         field.heights[nb] = raised;
-        pit.push_back(nb);
+        queue.pushPit(nb);
       } else {
-        heap.push(floodKey(field.heights[nb], nb));
+        queue.push(field.heights[nb], nb);
       }
     }
   }

@@ -4,18 +4,13 @@
 
 #include <polder/terrain/geotiff.hpp>
 
+#include "wgs84_reference.hpp"
+
 namespace polder::terrain {
 namespace {
 
-// Independent reference: the usual series for WGS84 degree lengths.
-double metresPerDegreeLatitude(double phi) {
-  const double r = phi * M_PI / 180.0;
-  return 111132.954 - 559.822 * std::cos(2 * r) + 1.175 * std::cos(4 * r);
-}
-double metresPerDegreeLongitude(double phi) {
-  const double r = phi * M_PI / 180.0;
-  return 111412.84 * std::cos(r) - 93.5 * std::cos(3 * r) + 0.118 * std::cos(5 * r);
-}
+using test::metresPerDegreeLatitude;
+using test::metresPerDegreeLongitude;
 
 std::vector<std::uint16_t> keys(std::initializer_list<std::pair<std::uint16_t, std::uint16_t>> entries) {
   std::vector<std::uint16_t> directory = {1, 1, 0, std::uint16_t(entries.size())};

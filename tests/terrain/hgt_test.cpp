@@ -6,18 +6,13 @@
 
 #include <polder/terrain/hgt.hpp>
 
+#include "wgs84_reference.hpp"
+
 namespace polder::terrain {
 namespace {
 
-// Independent reference: the usual series for WGS84 degree lengths.
-double metresPerDegreeLatitude(double phi) {
-  const double r = phi * M_PI / 180.0;
-  return 111132.954 - 559.822 * std::cos(2 * r) + 1.175 * std::cos(4 * r);
-}
-double metresPerDegreeLongitude(double phi) {
-  const double r = phi * M_PI / 180.0;
-  return 111412.84 * std::cos(r) - 93.5 * std::cos(3 * r) + 0.118 * std::cos(5 * r);
-}
+using test::metresPerDegreeLatitude;
+using test::metresPerDegreeLongitude;
 
 // A tile of `size`^2 big-endian samples, north row first: height = 10 * row + column % 7.
 std::vector<std::byte> makeTile(int size) {

@@ -41,24 +41,25 @@ GlObject makeVertexArray(const GladGLContext& gl) {
 
 namespace {
 
-std::string shaderLog(const GladGLContext& gl, GLuint shader) {
+// The info log of a shader or program: getParameter is GetShaderiv or GetProgramiv,
+// getLog GetShaderInfoLog or GetProgramInfoLog.
+template <class GetParameter, class GetLog>
+std::string infoLog(GLuint object, GetParameter getParameter, GetLog getLog) {
   GLint length = 0;
-  gl.GetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+  getParameter(object, GL_INFO_LOG_LENGTH, &length);
   std::string log(std::size_t(std::max(length, 1)), '\0');
   GLsizei written = 0;
-  gl.GetShaderInfoLog(shader, GLsizei(log.size()), &written, log.data());
+  getLog(object, GLsizei(log.size()), &written, log.data());
   log.resize(std::size_t(written));
   return log;
 }
 
+std::string shaderLog(const GladGLContext& gl, GLuint shader) {
+  return infoLog(shader, gl.GetShaderiv, gl.GetShaderInfoLog);
+}
+
 std::string programLog(const GladGLContext& gl, GLuint program) {
-  GLint length = 0;
-  gl.GetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-  std::string log(std::size_t(std::max(length, 1)), '\0');
-  GLsizei written = 0;
-  gl.GetProgramInfoLog(program, GLsizei(log.size()), &written, log.data());
-  log.resize(std::size_t(written));
-  return log;
+  return infoLog(program, gl.GetProgramiv, gl.GetProgramInfoLog);
 }
 
 Result<GlObject> compileShader(const GladGLContext& gl, GLenum stage, std::string_view source,
