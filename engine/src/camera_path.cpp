@@ -159,4 +159,30 @@ CameraPath makeFlyoverLoop(double extentX, double extentY, const std::function<d
   return std::move(CameraPath::fromPoses(std::move(poses), true).value());
 }
 
+CameraPath makeOrbitLoop(double extentX, double extentY, const std::function<double(double, double)>& groundHeight,
+                         const OrbitOptions& options) {
+  const int n = std::max(options.samples, 8);
+  const glm::dvec2 centre{0.5 * extentX, 0.5 * extentY};
+  const double radius = options.radiusFraction * std::min(extentX, extentY);
+  double highest = groundHeight(centre.x, centre.y);
+  for (int i = 0; i < n; ++i) {
+    const double angle = 2.0 * kPi * double(i) / double(n);
+    highest = std::max(highest, groundHeight(centre.x + radius * std::sin(angle), centre.y + radius * std::cos(angle)));
+  }
+  const double altitude = highest + options.altitudeM;
+  const glm::dvec3 target{centre.x, centre.y, groundHeight(centre.x, centre.y)};
+  const double stepS = 2.0 * kPi * radius / double(n) / std::max(options.speedMps, 1e-6);
+  std::vector<CameraPose> poses;
+  poses.reserve(std::size_t(n));
+  for (int i = 0; i < n; ++i) {
+    const double angle = 2.0 * kPi * double(i) / double(n);
+    const glm::dvec3 position{centre.x + radius * std::sin(angle), centre.y + radius * std::cos(angle), altitude};
+    const glm::dvec3 look = target - position;
+    const double yaw = std::atan2(look.x, look.y) * 180.0 / kPi;
+    const double pitch = std::atan2(look.z, std::hypot(look.x, look.y)) * 180.0 / kPi;
+    poses.push_back(CameraPose{i * stepS, position, yaw, pitch});
+  }
+  return std::move(CameraPath::fromPoses(std::move(poses), true).value());
+}
+
 }  // namespace polder

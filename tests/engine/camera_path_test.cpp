@@ -1,3 +1,4 @@
+#include <polder/camera.hpp>
 #include <polder/camera_path.hpp>
 
 #include <cmath>
@@ -58,6 +59,29 @@ TEST(FlyoverLoop, StaysAboveTheGroundAtTheRequestedAltitudeAndCloses) {
   const glm::dvec2 travel = glm::normalize(glm::dvec2(b.position - a.position));
   const double yaw = a.yawDeg * 3.14159265358979323846 / 180.0;
   EXPECT_GT(glm::dot(travel, glm::dvec2(std::sin(yaw), std::cos(yaw))), 0.99);
+}
+
+}  // namespace
+}  // namespace polder
+
+namespace polder {
+namespace {
+
+TEST(OrbitLoop, CirclesTheCentreLookingAtIt) {
+  auto ground = [](double x, double y) { return 100.0 + 0.02 * x + 0.01 * y; };
+  OrbitOptions options;
+  options.altitudeM = 500.0;
+  const CameraPath path = makeOrbitLoop(8000.0, 6000.0, ground, options);
+  const glm::dvec3 centre{4000.0, 3000.0, ground(4000.0, 3000.0)};
+  for (double t = 0.0; t < path.durationS(); t += path.durationS() / 37.0) {
+    const CameraPose pose = path.at(t);
+    EXPECT_NEAR(glm::length(glm::dvec2(pose.position) - glm::dvec2(centre)), 0.35 * 6000.0, 1.0);
+    Camera camera;
+    camera.yawDeg = pose.yawDeg;
+    camera.pitchDeg = pose.pitchDeg;
+    EXPECT_GT(glm::dot(camera.forward(), glm::normalize(centre - pose.position)), 0.9999);
+    EXPECT_GE(pose.position.z - ground(pose.position.x, pose.position.y), options.altitudeM);
+  }
 }
 
 }  // namespace

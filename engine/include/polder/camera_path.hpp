@@ -55,4 +55,15 @@ struct FlyoverOptions {
 CameraPath makeFlyoverLoop(double extentX, double extentY, const std::function<double(double x, double y)>& groundHeight,
                            const FlyoverOptions& options = {});
 
+struct OrbitOptions {
+  double altitudeM = 1000.0;     // above the highest ground on the circle
+  double speedMps = 150.0;
+  double radiusFraction = 0.35;  // of the terrain's smaller extent, around its centre
+  int samples = 720;
+};
+
+// A closed circle around the terrain's centre, always looking at the centre's ground.
+CameraPath makeOrbitLoop(double extentX, double extentY, const std::function<double(double x, double y)>& groundHeight,
+                         const OrbitOptions& options = {});
+
 }  // namespace polder
