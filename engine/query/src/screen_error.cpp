@@ -1,0 +1,72 @@
+#include <polder/query/screen_error.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+#include <vector>
+
+namespace polder::query {
+
+namespace {
+
+// Pixel coordinates (x right, y down) of a world point, or nothing behind the eye.
+std::optional<glm::dvec2> project(const glm::dmat4& viewProjection, const Camera& camera, const glm::dvec3& point) {
+  const glm::dvec4 clip = viewProjection * glm::dvec4(point - camera.position, 1.0);
+  if (clip.w <= 0.0) return std::nullopt;
+  return glm::dvec2((clip.x / clip.w * 0.5 + 0.5) * camera.widthPx, (0.5 - clip.y / clip.w * 0.5) * camera.heightPx);
+}
+
+}  // namespace
+
+ScreenError measureScreenError(const QueryScene& lodMesh, const QueryScene& truth, const Camera& camera,
+                               const ScreenErrorOptions& options) {
+  const int stride = std::max(options.pixelStride, 1);
+  const int columns = (camera.widthPx + stride - 1) / stride;
+  const int rows = (camera.heightPx + stride - 1) / stride;
+  const glm::dmat4 viewProjection = camera.projection() * camera.viewRotation();
+  const int threadCount = std::clamp(options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()), 1, rows);
+
+  // Errors per row band, gathered afterwards: each thread writes only its own rows.
+  std::vector<std::vector<double>> errors(static_cast<std::size_t>(threadCount));
+  auto measureRows = [&](int thread) {
+    std::vector<QueryRay> rays(static_cast<std::size_t>(columns));
+    std::vector<std::optional<RayHit>> hits(static_cast<std::size_t>(columns));
+    auto& out = errors[std::size_t(thread)];
+    for (int row = thread; row < rows; row += threadCount) {
+      const double py = row * stride + 0.5;
+      for (int column = 0; column < columns; ++column) {
+        const double px = column * stride + 0.5;
+        rays[std::size_t(column)] = QueryRay{camera.position, camera.pixelRay(px, py), camera.nearM, camera.farM};
+      }
+      lodMesh.raycastMany(rays, hits, RayCoherence::Coherent);
+      for (const auto& hit : hits) {
+        if (!hit) continue;
+        const auto trueHeight = truth.height(hit->point.x, hit->point.y);
+        if (!trueHeight) continue;
+        const auto drawn = project(viewProjection, camera, hit->point);
+        const auto actual = project(viewProjection, camera, {hit->point.x, hit->point.y, *trueHeight});
+        if (!drawn || !actual) continue;
+        out.push_back(glm::length(*drawn - *actual));
+      }
+    }
+  };
+  std::vector<std::thread> workers;
+  for (int t = 1; t < threadCount; ++t) workers.emplace_back(measureRows, t);
+  measureRows(0);
+  for (auto& worker : workers) worker.join();
+
+  std::vector<double> all;
+  for (auto& band : errors) all.insert(all.end(), band.begin(), band.end());
+  ScreenError result;
+  result.pixelsMeasured = all.size();
+  if (all.empty()) return result;
+  double sum = 0.0;
+  for (double e : all) sum += e, result.maxPx = std::max(result.maxPx, e);
+  result.meanPx = sum / double(all.size());
+  const std::size_t rank = std::min(all.size() - 1, std::size_t(std::ceil(0.99 * double(all.size()))) - 1);
+  std::nth_element(all.begin(), all.begin() + std::ptrdiff_t(rank), all.end());
+  result.p99Px = all[rank];
+  return result;
+}
+
+}  // namespace polder::query
