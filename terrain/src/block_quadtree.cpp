@@ -288,6 +288,15 @@ SelectionStats BlockQuadtree::select(const Camera& camera, const SelectionOption
     const FrustumTest test = entry.tested ? entry.test : frustum.classifyRelative(box);
     const double distance = distanceToOrigin(box);
     if (test == FrustumTest::Outside) {
+      // Culled nodes stay in the cut for the dikes, which need every node drawable at its
+      // stride: an edge node that is not (infinite error) gives way to its children.
+      if (node.level > 0 && !std::isfinite(m_nodes[nodeIndex(node)].delta())) {
+        for (int quadrant = 3; quadrant >= 0; --quadrant) {
+          const NodeId child = node.child(quadrant);
+          if (m_layout.exists(child)) stack.push_back(SelectionScratch::Entry{child, FrustumTest::Outside, true});
+        }
+        continue;
+      }
       out.push_back(SelectedNode{node, distance, false, false});
       ++stats.culledNodes;
       continue;

@@ -1,0 +1,41 @@
+// The dike step of a frame: stitches the gap network of the whole cut (terrain/dikes.hpp)
+// and keeps, for drawing, the dike triangles that touch a visible block.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include <polder/terrain/block_quadtree.hpp>
+#include <polder/terrain/dikes.hpp>
+#include <polder/terrain/watertight.hpp>
+
+namespace polder {
+
+class DikeStage {
+ public:
+  DikeStage(const terrain::Heightfield& field, const terrain::BlockLayout& layout);
+
+  // Triangulates the gaps between the meshes of the cut (cutMeshes[i] for cut[i]; null for
+  // a node without a mesh, which then counts as its corners).
+  void stitch(std::span<const terrain::SelectedNode> cut, std::span<const terrain::BlockMesh* const> cutMeshes);
+
+  const terrain::DikeMesh& mesh() const { return m_mesh; }
+  // Triangles (indices into mesh().vertices) with a vertex on a visible block's side.
+  std::span<const std::uint32_t> visibleIndices() const { return m_visibleIndices; }
+  std::size_t visibleTriangleCount() const { return m_visibleIndices.size() / 3; }
+
+  // Checks the last stitched frame, blocks and dikes together (allocates: not for the frame path).
+  terrain::WatertightReport checkWatertight() const;
+
+ private:
+  const terrain::Heightfield& m_field;
+  terrain::BlockLayout m_layout;
+  std::vector<terrain::DikeBlock> m_blocks;
+  terrain::DikeMesh m_mesh;
+  terrain::DikeScratch m_scratch;
+  std::vector<std::uint8_t> m_vertexVisible;
+  std::vector<std::uint32_t> m_visibleIndices;
+  bool m_failed = false;
+};
+
+}  // namespace polder

@@ -1,0 +1,306 @@
+#include <polder/terrain_engine.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <polder/cache/lod_cache.hpp>
+#include <polder/cache/lru_cache.hpp>
+#include <polder/lod/allocator.hpp>
+#include <polder/lod/projected_area.hpp>
+#include <polder/terrain/block_quadtree.hpp>
+#include <polder/terrain/normals.hpp>
+#include <polder/terrain/rtin.hpp>
+
+#include "dike_stage.hpp"
+
+namespace polder {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double millisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+std::uint64_t nodeKey(const terrain::NodeId& node) {
+  return (std::uint64_t(node.level) << 56) | (std::uint64_t(node.bx) << 28) | std::uint64_t(node.by);
+}
+
+}  // namespace
+
+cache::LodCacheOptions cacheOptions(const TerrainEngineOptions& options) {
+  cache::LodCacheOptions cache;
+  cache.budgetBytes = options.cacheBytes;
+  cache.enabled = options.cacheEnabled;
+  // In budget mode a reused mesh may fall short of its share by this fraction; keep it small
+  // so frames land close to the budget.
+  cache.countHysteresis = 0.02;
+  return cache;
+}
+
+struct TerrainEngine::Impl {
+  std::shared_ptr<const terrain::Heightfield> field;
+  terrain::BlockLayout layout;
+  terrain::BlockQuadtree quadtree;
+  TerrainEngineOptions options;
+
+  // Error hierarchies of the nodes frames have needed, least recently used evicted. A miss
+  // builds one (allocates): that happens while the view changes, not in steady state.
+  cache::LruCache<std::uint64_t, terrain::BlockLod> lods{std::size_t(64) << 20};
+  cache::LodCache meshes;
+
+  // Per-frame storage, reserved once.
+  terrain::SelectionScratch selectionScratch;
+  std::vector<terrain::SelectedNode> cut;
+  std::vector<const terrain::BlockMesh*> cutMeshes;  // parallel to cut
+  std::vector<lod::RegionDemand> demands;
+  std::vector<std::uint32_t> allocation;
+  std::vector<std::size_t> visibleInCut;  // indices into cut of the visible nodes
+  lod::AllocationScratch allocationScratch{0};
+  DikeStage dikes;
+  std::size_t lastDikeTriangles = 0;
+  TerrainFrame frame;
+  std::vector<MeshData> blockMeshes;  // frameMeshes() storage, reused
+  std::vector<MeshData> dikeTiles;
+
+  Impl(std::shared_ptr<const terrain::Heightfield> f, terrain::BlockLayout l, terrain::BlockQuadtree q,
+       const TerrainEngineOptions& o)
+      : field(std::move(f)), layout(l), quadtree(std::move(q)), options(o),
+        meshes(cacheOptions(o)), dikes(*field, layout) {
+    selectionScratch.reserve(quadtree);
+    const std::size_t bound = quadtree.selectionBound();
+    cut.reserve(bound);
+    cutMeshes.reserve(bound);
+    demands.reserve(bound);
+    allocation.reserve(bound);
+    visibleInCut.reserve(bound);
+    allocationScratch.reserve(bound);
+    frame.blocks.reserve(bound);
+  }
+
+  const terrain::BlockLod* lodFor(const terrain::NodeId& node) {
+    const std::uint64_t key = nodeKey(node);
+    if (terrain::BlockLod* cached = lods.find(key)) return cached;
+    auto built = terrain::BlockLod::build(*field, layout.interior(node));
+    if (!built) return nullptr;  // no whole cell inside the DEM: selection never draws such nodes
+    const std::size_t bytes = built->memoryBytes();
+    return &lods.insert(key, std::move(*built), bytes);
+  }
+
+  terrain::LodView viewFor(const terrain::BlockLod& lod, const Camera& camera) const {
+    return terrain::LodView{camera.position - lod.origin(), camera.projectionConstant(), options.tauPx,
+                            std::max(camera.nearM, 1e-3)};
+  }
+
+  // Error mode: every node of the cut at tau (culled ones too: their sides feed the dikes).
+  void extractForError(const Camera& camera) {
+    for (std::size_t i = 0; i < cut.size(); ++i) {
+      const terrain::BlockLod* lod = lodFor(cut[i].node);
+      cutMeshes[i] = lod ? &meshes.acquire(cut[i].node, *lod, viewFor(*lod, camera)) : nullptr;
+    }
+  }
+
+  // Budget mode: the allocator splits the blocks' share of the budget over the visible
+  // blocks by projected area (ASLOD, seed 000 section 3); culled blocks take their coarsest
+  // mesh, which only their sides (for the dikes) need.
+  void extractForBudget(const Camera& camera, std::uint64_t blockBudget) {
+    const lod::AreaView areaView = lod::makeAreaView(camera);
+    demands.clear();
+    visibleInCut.clear();
+    const auto maxTriangles = std::uint32_t(terrain::blockMeshTriangleBound(layout.k()));
+    for (std::size_t i = 0; i < cut.size(); ++i) {
+      if (!cut[i].visible) continue;
+      const Aabb box = quadtree.box(cut[i].node);
+      const double area = lod::visibleAreaPx(lod::orientedBoxFromAabb(box.minCorner, box.maxCorner), areaView);
+      demands.push_back(lod::RegionDemand{std::max(area, 1e-9), 2, maxTriangles});
+      visibleInCut.push_back(i);
+    }
+    allocation.resize(demands.size());
+    lod::allocateTriangles(demands, blockBudget, options.alpha, allocation, allocationScratch);
+    for (std::size_t i = 0; i < cut.size(); ++i) {
+      const terrain::BlockLod* lod = lodFor(cut[i].node);
+      cutMeshes[i] = lod ? &meshes.acquireCount(cut[i].node, *lod, 0) : nullptr;
+    }
+    for (std::size_t v = 0; v < visibleInCut.size(); ++v) {
+      const std::size_t i = visibleInCut[v];
+      const terrain::BlockLod* lod = lodFor(cut[i].node);
+      if (lod) cutMeshes[i] = &meshes.acquireCount(cut[i].node, *lod, allocation[v]);
+    }
+  }
+
+  std::size_t visibleBlockTriangles() const {
+    std::size_t triangles = 0;
+    for (std::size_t i = 0; i < cut.size(); ++i)
+      if (cut[i].visible && cutMeshes[i]) triangles += cutMeshes[i]->triangleCount();
+    return triangles;
+  }
+};
+
+Result<std::unique_ptr<TerrainEngine>> TerrainEngine::create(std::shared_ptr<const terrain::Heightfield> field,
+                                                             const TerrainEngineOptions& options,
+                                                             const std::function<void(float)>& progress) {
+  if (!field) return makeError(ErrorKind::InvalidArgument, "TerrainEngine::create needs a heightfield");
+  if (!(options.tauPx > 0.0) || !std::isfinite(options.tauPx))
+    return makeError(ErrorKind::InvalidArgument, "the pixel tolerance must be positive");
+  if (!(options.alpha > 0.0)) return makeError(ErrorKind::InvalidArgument, "the allocator's alpha must be positive");
+  auto layout = terrain::BlockLayout::create(field->width, field->height, options.blockK);
+  if (!layout) return layout.error();
+  terrain::BlockQuadtreeOptions treeOptions;
+  treeOptions.progress = progress;
+  auto quadtree = terrain::BlockQuadtree::build(*field, *layout, treeOptions);
+  if (!quadtree) return quadtree.error();
+  auto impl = std::make_unique<Impl>(std::move(field), *layout, std::move(*quadtree), options);
+  return std::unique_ptr<TerrainEngine>(new TerrainEngine(std::move(impl)));
+}
+
+TerrainEngine::TerrainEngine(std::unique_ptr<Impl> impl) : m_impl(std::move(impl)) {}
+TerrainEngine::~TerrainEngine() = default;
+
+const TerrainFrame& TerrainEngine::update(const Camera& camera) {
+  Impl& s = *m_impl;
+  const auto frameStart = Clock::now();
+  TerrainFrameStats stats;
+  s.meshes.beginFrame();
+  const cache::LodCacheCounters before = s.meshes.counters();
+
+  // 1. Select: the cut of the block quadtree for this view. A node's error here is what it
+  //    cannot refine (its stride's floor and its dikes): the view-dependent extraction below
+  //    holds everything else within tau.
+  auto start = Clock::now();
+  terrain::SelectionOptions selection;
+  selection.tolerancePx = s.options.mode == LodMode::PixelError ? s.options.tauPx : 1.0;
+  selection.errorMeasure = terrain::NodeErrorMeasure::Floor;
+  s.quadtree.select(camera, selection, s.selectionScratch, s.cut);
+  s.cutMeshes.assign(s.cut.size(), nullptr);
+  stats.selectMs = millisecondsSince(start);
+
+  // 2. LOD per block, from the cache; 3. dikes between them.
+  start = Clock::now();
+  double dikesMs = 0.0;
+  if (s.options.mode == LodMode::PixelError) {
+    s.extractForError(camera);
+    const auto dikesStart = Clock::now();
+    s.dikes.stitch(s.cut, s.cutMeshes);
+    dikesMs = millisecondsSince(dikesStart);
+  } else {
+    // The dikes count inside the budget: give the blocks what last frame's dikes left, then
+    // correct once if this frame's dikes came out larger or smaller.
+    const std::uint64_t budget = s.options.budgetTriangles;
+    std::uint64_t blockBudget = budget > s.lastDikeTriangles ? budget - s.lastDikeTriangles : budget / 2;
+    for (int attempt = 0; attempt < 4; ++attempt) {
+      s.extractForBudget(camera, blockBudget);
+      const auto dikesStart = Clock::now();
+      s.dikes.stitch(s.cut, s.cutMeshes);
+      dikesMs += millisecondsSince(dikesStart);
+      const std::uint64_t total = s.visibleBlockTriangles() + s.dikes.visibleTriangleCount();
+      if (total <= budget && total >= budget - budget / 20) break;
+      const std::int64_t correction = std::int64_t(budget) - std::int64_t(budget / 40) - std::int64_t(total);
+      blockBudget = std::uint64_t(std::max<std::int64_t>(std::int64_t(blockBudget) + correction, 0));
+    }
+    s.lastDikeTriangles = s.dikes.visibleTriangleCount();
+  }
+  stats.lodMs = millisecondsSince(start) - dikesMs;
+  stats.dikesMs = dikesMs;
+
+  s.frame.blocks.clear();
+  for (std::size_t i = 0; i < s.cut.size(); ++i) {
+    if (!s.cut[i].visible) {
+      ++stats.culledBlocks;
+      continue;
+    }
+    if (!s.cutMeshes[i]) continue;
+    ++stats.visibleBlocks;
+    stats.blockTriangles += s.cutMeshes[i]->triangleCount();
+    s.frame.blocks.push_back(TerrainBlockDraw{s.cut[i].node, s.cutMeshes[i]});
+  }
+  s.frame.dikes = TerrainDikes{s.dikes.mesh().vertices, s.dikes.visibleIndices()};
+  stats.dikeTriangles = s.dikes.visibleTriangleCount();
+  const cache::LodCacheCounters& after = s.meshes.counters();
+  stats.cacheLookups = after.lookups - before.lookups;
+  stats.cacheHits = after.hits - before.hits;
+  stats.cacheRebuilds = after.rebuilds - before.rebuilds;
+  stats.totalMs = millisecondsSince(frameStart);
+  s.frame.stats = stats;
+  return s.frame;
+}
+
+namespace {
+
+void clearKeepingCapacity(MeshData& mesh) {
+  mesh.positions.clear();
+  mesh.normals.clear();
+  mesh.indices.clear();
+}
+
+}  // namespace
+
+TerrainFrameMeshes TerrainEngine::frameMeshes() {
+  Impl& s = *m_impl;
+  const terrain::Heightfield& field = *s.field;
+  if (s.blockMeshes.size() < s.frame.blocks.size()) s.blockMeshes.resize(s.frame.blocks.size());
+  for (std::size_t b = 0; b < s.frame.blocks.size(); ++b) {
+    const terrain::BlockMesh& block = *s.frame.blocks[b].mesh;
+    const terrain::BlockFootprint& footprint = block.footprint;
+    MeshData& mesh = s.blockMeshes[b];
+    clearKeepingCapacity(mesh);
+    mesh.origin = {footprint.x0 * field.spacingX, footprint.y0 * field.spacingY, 0.0};
+    for (const terrain::GridVertex& v : block.vertices) {
+      const int di = v.i * footprint.stride, dj = v.j * footprint.stride;
+      mesh.positions.emplace_back(float(di * field.spacingX), float(dj * field.spacingY),
+                                  field.at(footprint.x0 + di, footprint.y0 + dj));
+      mesh.normals.push_back(terrain::sampleNormal(field, footprint.x0 + di, footprint.y0 + dj));
+    }
+    mesh.indices.assign(block.indices.begin(), block.indices.end());
+  }
+
+  // Dike triangles go into tiles of 8 x 8 level-0 blocks, each relative to its own corner,
+  // so the floats stay small on DEMs of any extent. Vertices are not shared between
+  // triangles: dikes are a small share of a frame and this needs no lookup table.
+  const int tileSamples = 8 * s.layout.pitch();
+  const int tilesX = (field.width + tileSamples - 1) / tileSamples;
+  const int tilesY = (field.height + tileSamples - 1) / tileSamples;
+  if (s.dikeTiles.size() != std::size_t(tilesX) * std::size_t(tilesY)) s.dikeTiles.resize(std::size_t(tilesX) * std::size_t(tilesY));
+  for (MeshData& tile : s.dikeTiles) clearKeepingCapacity(tile);
+  const TerrainDikes& dikes = s.frame.dikes;
+  for (std::size_t t = 0; t + 2 < dikes.indices.size(); t += 3) {
+    const terrain::DikeVertex first = dikes.vertices[dikes.indices[t]];
+    const int tx = std::min(first.x / tileSamples, tilesX - 1), ty = std::min(first.y / tileSamples, tilesY - 1);
+    MeshData& tile = s.dikeTiles[std::size_t(ty) * std::size_t(tilesX) + std::size_t(tx)];
+    tile.origin = {double(tx * tileSamples) * field.spacingX, double(ty * tileSamples) * field.spacingY, 0.0};
+    for (int corner = 0; corner < 3; ++corner) {
+      const terrain::DikeVertex g = dikes.vertices[dikes.indices[t + std::size_t(corner)]];
+      tile.indices.push_back(std::uint32_t(tile.positions.size()));
+      tile.positions.emplace_back(float(g.x * field.spacingX - tile.origin.x), float(g.y * field.spacingY - tile.origin.y),
+                                  field.at(g.x, g.y));
+      tile.normals.push_back(terrain::sampleNormal(field, g.x, g.y));
+    }
+  }
+  // Non-empty tiles first, so the caller gets one span.
+  std::partition(s.dikeTiles.begin(), s.dikeTiles.end(), [](const MeshData& tile) { return !tile.indices.empty(); });
+  std::size_t usedTiles = 0;
+  while (usedTiles < s.dikeTiles.size() && !s.dikeTiles[usedTiles].indices.empty()) ++usedTiles;
+  return TerrainFrameMeshes{std::span<const MeshData>(s.blockMeshes.data(), s.frame.blocks.size()),
+                            std::span<const MeshData>(s.dikeTiles.data(), usedTiles)};
+}
+
+terrain::WatertightReport TerrainEngine::checkWatertight() const {
+  return m_impl->dikes.checkWatertight();
+}
+
+const terrain::Heightfield& TerrainEngine::field() const { return *m_impl->field; }
+const terrain::BlockLayout& TerrainEngine::layout() const { return m_impl->layout; }
+const TerrainEngineOptions& TerrainEngine::options() const { return m_impl->options; }
+
+void TerrainEngine::setOptions(const TerrainEngineOptions& options) {
+  Impl& s = *m_impl;
+  s.options.tauPx = options.tauPx > 0.0 ? options.tauPx : s.options.tauPx;
+  s.options.mode = options.mode;
+  s.options.budgetTriangles = options.budgetTriangles;
+  s.options.alpha = options.alpha > 0.0 ? options.alpha : s.options.alpha;
+  s.options.cacheEnabled = options.cacheEnabled;
+  s.meshes.setEnabled(options.cacheEnabled);
+}
+
+}  // namespace polder
