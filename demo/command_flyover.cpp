@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include <polder/camera_path.hpp>
 #include <polder/query/query_scene.hpp>
@@ -30,6 +31,9 @@ struct FlyoverArguments {
   std::string out = "out/flyover";
   std::string size = "1280x720";
   double fovDeg = 60.0;
+  double tauPx = 1.0;
+  bool fullResolution = false;
+  std::string debug;
   FlyoverOptions flight;
 };
 
@@ -38,6 +42,49 @@ struct Flight {
   std::unique_ptr<query::QueryScene> scene;
   CameraPath path;
   TerrainStyle style;
+};
+
+// What a flight draws each frame: the LOD frame of a TerrainEngine, or the full-resolution
+// meshes uploaded once (--full-res).
+class FlightDrawing {
+ public:
+  static Result<FlightDrawing> create(render::Renderer& renderer, const terrain::Heightfield& field,
+                                      const FlyoverArguments& arguments) {
+    FlightDrawing drawing;
+    auto debug = parseDebugView(arguments.debug);
+    if (!debug) return debug.error();
+    drawing.m_debug = *debug;
+    if (arguments.fullResolution) {
+      auto meshes = TerrainMeshes::upload(renderer, field);
+      if (!meshes) return meshes.error();
+      drawing.m_fullResolution = std::move(*meshes);
+      return drawing;
+    }
+    TerrainEngineOptions options;
+    options.tauPx = arguments.tauPx;
+    auto engine = TerrainEngine::create(std::make_shared<terrain::Heightfield>(field), options);
+    if (!engine) return engine.error();
+    drawing.m_engine = std::move(*engine);
+    return drawing;
+  }
+
+  // Draws between beginFrame and endFrame; returns the triangles drawn.
+  std::size_t draw(render::Renderer& renderer, const Camera& camera) {
+    if (m_fullResolution) {
+      m_fullResolution->draw(renderer);
+      return m_fullResolution->triangleCount();
+    }
+    const TerrainFrame& frame = m_engine->update(camera);
+    drawLodFrame(renderer, frame, m_engine->frameMeshes(), m_debug);
+    return frame.stats.triangles();
+  }
+
+  DebugView debug() const { return m_debug; }
+
+ private:
+  std::unique_ptr<TerrainEngine> m_engine;
+  std::optional<TerrainMeshes> m_fullResolution;
+  DebugView m_debug = DebugView::None;
 };
 
 Result<Flight> prepareFlight(const FlyoverArguments& arguments) {
@@ -70,18 +117,21 @@ int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) 
   auto headless = createHeadlessRenderer(lens.widthPx, lens.heightPx);
   if (!headless) return reportError(headless.error());
   render::Renderer& renderer = *headless->renderer;
-  auto meshes = TerrainMeshes::upload(renderer, flight.dem.field);
-  if (!meshes) return reportError(meshes.error());
+  auto drawing = FlightDrawing::create(renderer, flight.dem.field, arguments);
+  if (!drawing) return reportError(drawing.error());
+  TerrainStyle style = flight.style;
+  style.wireframe = drawing->debug() == DebugView::Wire;
 
   const double step = arguments.fps > 0.0 ? 1.0 / arguments.fps : flight.path.durationS() / arguments.frames;
   RgbaImage image;
   double renderSeconds = 0.0;
+  std::size_t triangles = 0;
   ProgressBar progress("rendering " + std::to_string(arguments.frames) + " frames");
   for (int frame = 0; frame < arguments.frames; ++frame) {
     const Camera camera = cameraAt(flight.path.at(frame * step), lens);
     const auto start = std::chrono::steady_clock::now();
-    renderer.beginFrame(camera, flight.style);
-    meshes->draw(renderer);
+    renderer.beginFrame(camera, style);
+    triangles += drawing->draw(renderer, camera);
     if (Status done = renderer.endFrame(); !done) return reportError(done.error());
     if (Status read = renderer.readPixels(image); !read) return reportError(read.error());
     renderSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -93,9 +143,10 @@ int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) 
     progress.update(float(frame + 1) / float(arguments.frames));
   }
   progress.finish();
-  std::printf("flew %.0f s of a %.0f s loop over %s (%d x %d samples, %zu triangles at full resolution)\n",
-              (arguments.frames - 1) * step, flight.path.durationS(), flight.dem.info.path.c_str(),
-              flight.dem.field.width, flight.dem.field.height, meshes->triangleCount());
+  std::printf("flew %.0f s of a %.0f s loop over %s (%d x %d samples), %zu triangles per frame %s\n",
+              (arguments.frames - 1) * step, flight.path.durationS(), flight.dem.info.path.c_str(), flight.dem.field.width,
+              flight.dem.field.height, triangles / std::size_t(arguments.frames),
+              arguments.fullResolution ? "at full resolution" : ("within " + std::to_string(arguments.tauPx) + " px").c_str());
   std::printf("wrote %d frames (%dx%d) to %s/frame_0000.png ... frame_%04d.png; %.0f ms per frame to draw\n",
               arguments.frames, lens.widthPx, lens.heightPx, arguments.out.c_str(), arguments.frames - 1,
               1000.0 * renderSeconds / arguments.frames);
@@ -115,8 +166,10 @@ int runWindow(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
   if (!window) return reportError(window.error());
   auto renderer = render::Renderer::create(&platform::GlfwWindow::getProcAddress);
   if (!renderer) return reportError(renderer.error());
-  auto meshes = TerrainMeshes::upload(**renderer, flight.dem.field);
-  if (!meshes) return reportError(meshes.error());
+  auto drawing = FlightDrawing::create(**renderer, flight.dem.field, arguments);
+  if (!drawing) return reportError(drawing.error());
+  TerrainStyle style = flight.style;
+  style.wireframe = drawing->debug() == DebugView::Wire;
 
   using Key = platform::Key;
   bool autopilot = true;
@@ -160,13 +213,13 @@ int runWindow(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
     if (size.x <= 0 || size.y <= 0) continue;  // minimised
     camera.widthPx = size.x;
     camera.heightPx = size.y;
-    (*renderer)->beginFrame(camera, flight.style);
-    meshes->draw(**renderer);
+    (*renderer)->beginFrame(camera, style);
+    const std::size_t triangles = drawing->draw(**renderer, camera);
     if (Status done = (*renderer)->endFrame(); !done) return reportError(done.error());
     (*window)->swapBuffers();
     char title[160];
     std::snprintf(title, sizeof title, "Polder flyover - %s - %.0f fps - %zu triangles", autopilot ? "autopilot" : "manual",
-                  dt > 0.0 ? 1.0 / dt : 0.0, meshes->triangleCount());
+                  dt > 0.0 ? 1.0 / dt : 0.0, triangles);
     (*window)->setTitle(title);
   }
   return 0;
@@ -208,6 +261,9 @@ void addFlyoverCommand(CLI::App& app, int& exitCode) {
   command->add_option("--out", arguments->out, "Folder for the PNG frames")->capture_default_str();
   command->add_option("--size", arguments->size, "Image or window size WxH")->capture_default_str();
   command->add_option("--fov", arguments->fovDeg, "Vertical field of view in degrees")->capture_default_str();
+  command->add_option("--tau", arguments->tauPx, "Screen-space error tolerance of the LOD mesh, pixels")->capture_default_str();
+  command->add_flag("--full-res", arguments->fullResolution, "Draw every sample instead of the LOD mesh");
+  command->add_option("--debug", arguments->debug, "Colouring: lod (blocks by quadtree level), dikes, wire");
   command->add_option("--altitude", arguments->flight.altitudeM, "Metres above the ground")->capture_default_str();
   command->add_option("--speed", arguments->flight.speedMps, "Metres per second")->capture_default_str();
   command->callback([arguments, &exitCode] { exitCode = runFlyover(*arguments); });

@@ -2,7 +2,9 @@
 // through OSMesa by default; --reference ray casts the same view with Embree.
 #include <chrono>
 #include <cstdio>
+#include <cmath>
 #include <memory>
+#include <optional>
 
 #include <polder/query/query_scene.hpp>
 #include <polder/query/reference_renderer.hpp>
@@ -23,13 +25,22 @@ struct RenderArguments {
   std::string out;
   bool reference = false;
   bool wireframe = false;
+  std::optional<double> tauPx;  // LOD mesh within this many pixels instead of full resolution
+  std::string debug;
 };
 
-int runRender(const RenderArguments& arguments) {
+int runRender(RenderArguments arguments) {
   auto camera = parseCamera(arguments.camera, arguments.fovDeg, arguments.size);
   if (!camera) return reportError(camera.error());
-  if (arguments.reference && arguments.wireframe)
-    return reportError(makeError(ErrorKind::InvalidArgument, "--wire draws triangle edges; the --reference ray caster has none"));
+  auto debug = parseDebugView(arguments.debug);
+  if (!debug) return reportError(debug.error());
+  if (*debug == DebugView::Wire) arguments.wireframe = true;
+  if (arguments.reference && (arguments.wireframe || arguments.tauPx))
+    return reportError(makeError(ErrorKind::InvalidArgument, "--wire and --tau draw meshes; the --reference ray caster has none"));
+  if ((*debug == DebugView::Lod || *debug == DebugView::Dikes) && !arguments.tauPx)
+    return reportError(makeError(ErrorKind::InvalidArgument, "--debug lod|dikes colours the LOD mesh: give --tau too"));
+  if (arguments.tauPx && !(*arguments.tauPx > 0.0 && std::isfinite(*arguments.tauPx)))
+    return reportError(makeError(ErrorKind::InvalidArgument, "--tau must be a positive number of pixels"));
   auto dem = loadDem(arguments.dem);
   if (!dem) return reportError(dem.error());
   fitClipPlanes(*camera, dem->field);
@@ -47,13 +58,24 @@ int runRender(const RenderArguments& arguments) {
     auto headless = createHeadlessRenderer(camera->widthPx, camera->heightPx);
     if (!headless) return reportError(headless.error());
     render::Renderer& renderer = *headless->renderer;
-    auto meshes = TerrainMeshes::upload(renderer, dem->field);
-    if (!meshes) return reportError(meshes.error());
-    renderer.beginFrame(*camera, style);
-    meshes->draw(renderer);
+    if (arguments.tauPx) {
+      TerrainEngineOptions options;
+      options.tauPx = *arguments.tauPx;
+      auto engine = TerrainEngine::create(std::make_shared<terrain::Heightfield>(dem->field), options);
+      if (!engine) return reportError(engine.error());
+      const TerrainFrame& frame = (*engine)->update(*camera);
+      renderer.beginFrame(*camera, style);
+      drawLodFrame(renderer, frame, (*engine)->frameMeshes(), *debug);
+      triangles = frame.stats.triangles();
+    } else {
+      auto meshes = TerrainMeshes::upload(renderer, dem->field);
+      if (!meshes) return reportError(meshes.error());
+      renderer.beginFrame(*camera, style);
+      meshes->draw(renderer);
+      triangles = meshes->triangleCount();
+    }
     if (Status frame = renderer.endFrame(); !frame) return reportError(frame.error());
     if (Status read = renderer.readPixels(image); !read) return reportError(read.error());
-    triangles = meshes->triangleCount();
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   makeOpaque(image);
@@ -61,8 +83,9 @@ int runRender(const RenderArguments& arguments) {
   if (arguments.reference)
     std::printf("wrote %s (%dx%d, Embree reference, %.2f s)\n", arguments.out.c_str(), image.width, image.height, seconds);
   else
-    std::printf("wrote %s (%dx%d, %zu triangles at full resolution, %.2f s)\n", arguments.out.c_str(), image.width,
-                image.height, triangles, seconds);
+    std::printf("wrote %s (%dx%d, %zu triangles %s, %.2f s)\n", arguments.out.c_str(), image.width, image.height,
+                triangles, arguments.tauPx ? ("within " + std::to_string(*arguments.tauPx) + " px").c_str() : "at full resolution",
+                seconds);
   return 0;
 }
 
@@ -79,6 +102,8 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   command->add_option("--out", arguments->out, "Output PNG")->required();
   command->add_flag("--reference", arguments->reference, "Ray cast with Embree instead of rasterising with OpenGL");
   command->add_flag("--wire", arguments->wireframe, "Overlay triangle edges");
+  command->add_option("--tau", arguments->tauPx, "Draw the LOD mesh within this screen-space error (pixels)");
+  command->add_option("--debug", arguments->debug, "Colouring: lod (blocks by quadtree level), dikes, wire");
   command->callback([arguments, &exitCode] { exitCode = runRender(*arguments); });
 }
 

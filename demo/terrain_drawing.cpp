@@ -1,5 +1,6 @@
 #include "terrain_drawing.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <polder/terrain/full_resolution_mesh.hpp>
@@ -34,6 +35,32 @@ void TerrainMeshes::draw(render::Renderer& renderer) const {
 
 void makeOpaque(RgbaImage& image) {
   for (std::size_t i = 3; i < image.pixels.size(); i += 4) image.pixels[i] = 255;
+}
+
+Result<DebugView> parseDebugView(const std::string& text) {
+  if (text.empty() || text == "none") return DebugView::None;
+  if (text == "lod") return DebugView::Lod;
+  if (text == "dikes") return DebugView::Dikes;
+  if (text == "wire") return DebugView::Wire;
+  return makeError(ErrorKind::InvalidArgument, "--debug must be lod, dikes or wire, not '" + text + "'");
+}
+
+void drawLodFrame(render::Renderer& renderer, const TerrainFrame& frame, const TerrainFrameMeshes& meshes, DebugView debug) {
+  // Quadtree levels: level 0 keeps the terrain's colours, coarser levels shift towards
+  // blue, violet, orange...; dikes show in red under --debug dikes.
+  static constexpr glm::vec3 kLevelTints[] = {{1.0f, 1.0f, 1.0f}, {0.55f, 0.75f, 1.0f}, {0.85f, 0.55f, 1.0f},
+                                              {1.0f, 0.7f, 0.4f}, {0.5f, 1.0f, 0.6f},  {1.0f, 0.5f, 0.5f}};
+  for (std::size_t b = 0; b < meshes.blocks.size(); ++b) {
+    DrawItem item = drawItemOf(meshes.blocks[b]);
+    if (debug == DebugView::Lod) item.tint = kLevelTints[std::min<std::size_t>(frame.blocks[b].node.level, 5)];
+    if (debug == DebugView::Dikes) item.tint = glm::vec3(0.8f);
+    (void)renderer.drawTransient(item);
+  }
+  for (const MeshData& tile : meshes.dikes) {
+    DrawItem item = drawItemOf(tile);
+    if (debug == DebugView::Dikes) item.tint = glm::vec3(1.6f, 0.25f, 0.2f);
+    (void)renderer.drawTransient(item);
+  }
 }
 
 Result<HeadlessRenderer> createHeadlessRenderer(int width, int height) {

@@ -3,11 +3,13 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <polder/platform/osmesa_context.hpp>
 #include <polder/render/renderer.hpp>
 #include <polder/terrain/dem.hpp>
+#include <polder/terrain_engine.hpp>
 #include <polder/terrain_style.hpp>
 
 namespace polder::cli {
@@ -30,6 +32,13 @@ class TerrainMeshes {
 
 // Alpha carries the terrain/sky mask while rendering; pictures for people are opaque.
 void makeOpaque(RgbaImage& image);
+
+// Debug colouring of LOD frames (`--debug`).
+enum class DebugView { None, Lod, Dikes, Wire };
+Result<DebugView> parseDebugView(const std::string& text);
+
+// Draws a LOD frame: its blocks and its dikes, coloured per `debug`.
+void drawLodFrame(render::Renderer& renderer, const TerrainFrame& frame, const TerrainFrameMeshes& meshes, DebugView debug);
 
 // An offscreen OpenGL context with a renderer in it.
 struct HeadlessRenderer {

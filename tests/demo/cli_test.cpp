@@ -2,6 +2,7 @@
 #include <array>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
@@ -165,8 +166,56 @@ TEST_F(PolderProgram, BadInputGetsAClearMessageAndExitCode) {
   }
 }
 
+TEST_F(PolderProgram, BenchWritesTheDocumentedReport) {
+  const std::string json = s_dir->file("bench.json").string();
+  const ProgramRun run = runPolder("bench " + dem() +
+                                   " --frames 40 --measure-every 10 --size 160x120 --compare-cache --altitude 300 --json " + json);
+  // Exit 1 would mean a measured frame broke tau or watertightness: the report still comes.
+  ASSERT_TRUE(run.exitCode == 0 || run.exitCode == 1) << run.output;
+  std::ifstream in(json);
+  const auto report = nlohmann::json::parse(in);
+  const std::map<std::string, std::vector<std::string>> keys = {
+      {"dem", {"path", "width", "height", "spacing_m", "min_m", "max_m"}},
+      {"config", {"tau_px", "width_px", "height_px", "fov_deg", "block_samples", "mode", "budget_tris", "cache", "frames", "path"}},
+      {"triangles", {"mean", "max", "full_res", "dikes_mean"}},
+      {"blocks", {"visible_mean", "culled_mean"}},
+      {"lod_cache", {"reuse_rate", "rebuilds", "lookups"}},
+      {"cpu_ms", {"select", "lod", "dikes", "total"}},
+      {"screen_error_px", {"tau", "max", "p99", "frames_measured"}},
+      {"watertight", {"frames_checked", "open_edges", "t_junctions"}},
+      {"memory", {"peak_rss_mb"}},
+      {"compare_cache", {"lod_ms_saved_frac", "total_ms_saved_frac", "triangles_ratio"}},
+  };
+  for (const auto& [section, names] : keys) {
+    ASSERT_TRUE(report.contains(section)) << section;
+    for (const auto& name : names) EXPECT_TRUE(report[section].contains(name)) << section << "." << name;
+  }
+  EXPECT_TRUE(report.contains("render_ms"));
+  EXPECT_EQ(report["config"]["frames"], 40);
+  EXPECT_EQ(report["watertight"]["frames_checked"], 4);
+  EXPECT_EQ(report["watertight"]["open_edges"], 0);
+  EXPECT_EQ(report["watertight"]["t_junctions"], 0);
+  EXPECT_GT(report["triangles"]["mean"].get<double>(), 0.0);
+  EXPECT_LT(report["triangles"]["mean"].get<double>(), report["triangles"]["full_res"].get<double>());
+  EXPECT_EQ(report["lod_cache"]["lookups"].get<int>() > 0, true);
+  EXPECT_GT(report["cpu_ms"]["total"]["median"].get<double>(), 0.0);
+}
+
+TEST_F(PolderProgram, BenchRejectsBadArguments) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--tau 0", "--tau"},        {"--mode fast", "--mode"},          {"--block 30", "--block"},
+      {"--render vulkan", "--render"}, {"--preset seed999", "--preset"}, {"--path /nonexistent/path.txt", "/nonexistent/path.txt"},
+      {"--frames 0", "--frames"},  {"--mode budget --budget 5", "--budget"},
+  };
+  for (const auto& [arguments, mentions] : cases) {
+    const ProgramRun run = runPolder("bench " + dem() + " " + arguments);
+    EXPECT_NE(run.exitCode, 0) << arguments;
+    EXPECT_NE(run.output.find(mentions), std::string::npos) << arguments << ": " << run.output;
+  }
+}
+
 TEST(PolderProgramHelp, EverySubcommandHasHelp) {
-  for (const char* command : {"info", "gen", "render", "query", "flyover"}) {
+  for (const char* command : {"info", "gen", "render", "query", "flyover", "bench"}) {
     const ProgramRun run = runPolder(std::string(command) + " --help");
     EXPECT_EQ(run.exitCode, 0) << command << ": " << run.output;
     EXPECT_NE(run.output.find("Usage"), std::string::npos) << command;

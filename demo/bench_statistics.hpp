@@ -1,0 +1,21 @@
+// Small statistics for benchmark reports.
+#pragma once
+
+#include <vector>
+
+namespace polder::cli {
+
+struct Percentiles {
+  double median = 0.0;
+  double p99 = 0.0;
+};
+
+// Median and 99th percentile (nearest rank) of the values; zeros when there are none.
+Percentiles percentiles(std::vector<double> values);
+
+double mean(const std::vector<double>& values);
+
+// The process's peak resident set size in MiB.
+double peakRssMb();
+
+}  // namespace polder::cli
