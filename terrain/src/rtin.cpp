@@ -15,6 +15,18 @@
 // hypotenuse of length 2h (one triangle on the block's side, two inside). Building visits
 // vertices from fine to coarse (h = 1, 2, ...; side midpoints before square centres), so a
 // vertex's children (the midpoints of its triangles' legs) are final when it is reached.
+//
+// Exact errors. The true surface is the full-resolution triangulation (heightfield.hpp: each
+// cell cut from (x+1, y) to (x, y+1)). A triangle's plane minus that surface is linear on each
+// piece of their overlay, so its largest magnitude is at an overlay vertex: a sample in the
+// triangle, or a point where the triangle's edges cross full-resolution edges. Bintree edges
+// are axis-aligned or at 45 degrees at every stride: axis-aligned ones and those running north-
+// west to south-east (along cell diagonals) cross full-resolution edges only at samples, while
+// one running south-west to north-east crosses the diagonal of every cell it passes at the
+// cell's centre, where the surface is the mean of the diagonal's ends. So every error is a scan
+// of the samples plus, for such an edge, its cell centres (exactTriangleError). At stride 1 that
+// makes the half cells cut south-west to north-east (half of them, in a checkerboard) differ
+// from the surface by the gap between the cell's two cuts at its centre (cellCentreGap).
 #include <polder/terrain/rtin.hpp>
 
 #include <algorithm>
@@ -101,9 +113,9 @@ int splitTriangleCount(int i, int j, int n) {
 // Rounds a non-negative value up to float, so that stored errors and radii never fall below
 // the exact values.
 float roundUp(double x) {
-  float f = float(x);
-  if (double(f) < x) f = std::bit_cast<float>(std::bit_cast<std::uint32_t>(f) + 1u);  // next float up
-  return f;
+  const float f = float(x);
+  // The next float up where rounding went down; branchless, the branch being a coin toss.
+  return std::bit_cast<float>(std::bit_cast<std::uint32_t>(f) + std::uint32_t(double(f) < x));
 }
 
 // Where full-resolution samples come from: the field row by row, limited to the valid
@@ -148,12 +160,50 @@ double rowError(const float* row, int lo, int hi, double base, double gx) {
   return m;
 }
 
+// Largest |surface - (c0 + gx X + gy Y)| at the centres (x + 1/2, y + 1/2) of the cells
+// (x0 + t, y0 + t), t in [0, count): where an edge running south-west to north-east crosses the
+// cells' diagonals, the surface being the mean of each diagonal's ends (x+1, y) and (x, y+1).
+double diagonalEdgeError(const SampleWindow& window, int x0, int y0, int count, double c0, double gx, double gy) {
+  const float* cell = window.origin + std::ptrdiff_t(y0) * window.pitch + x0;  // sample (x0, y0)
+  const std::ptrdiff_t step = window.pitch + 1, up = window.pitch;
+  const double g = gx + gy, plane0 = c0 + gx * (x0 + 0.5) + gy * (y0 + 0.5);
+  // Twice the plane against the sum of the diagonal's ends; two independent maxima (one chain
+  // of maxima would bound the loop by its latency).
+  double m0 = 0.0, m1 = 0.0;
+  int t = 0;
+  for (; t + 1 < count; t += 2) {
+    const float* c = cell + t * step;
+    const double d0 = std::fabs((double(c[1]) + double(c[up])) - 2.0 * (plane0 + g * t));
+    const double d1 = std::fabs((double(c[step + 1]) + double(c[step + up])) - 2.0 * (plane0 + g * (t + 1)));
+    m0 = d0 > m0 ? d0 : m0;
+    m1 = d1 > m1 ? d1 : m1;
+  }
+  if (t < count) {
+    const float* c = cell + t * step;
+    const double d0 = std::fabs((double(c[1]) + double(c[up])) - 2.0 * (plane0 + g * t));
+    m0 = d0 > m0 ? d0 : m0;
+  }
+  return 0.5 * (m0 > m1 ? m0 : m1);
+}
+
+// At stride 1: the distance between the two ways of cutting the cell with corner heights h00
+// (south-west), h10, h01, h11, at its centre, where it is largest. It is the error of both halves
+// of a half cell cut south-west to north-east, against the surface cut the other way.
+double cellCentreGap(double h00, double h10, double h01, double h11) {
+  return 0.5 * std::fabs((h00 + h11) - (h10 + h01));
+}
+
 // Slope dx/dy of a triangle edge with dy != 0: the edges are vertical or at 45 degrees.
 int unitSlope(int dx) { return (dx > 0) - (dx < 0); }
 
-// Exact error of triangle t against every full-resolution sample in it (closed triangle),
-// the plane running through the vertex heights za, zb, zc. Each triangle edge is horizontal,
-// vertical or at 45 degrees, so its rows are spans with integer ends.
+// Exact error of triangle t against the full-resolution surface (the triangulation of
+// heightfield.hpp) over the closed triangle, the plane running through the vertex heights
+// za, zb, zc. Their difference is linear on each piece of the two triangulations' overlay, so
+// it peaks at the overlay's vertices: the samples in the triangle, and where its edges cross
+// full-resolution edges. Axis-aligned edges and edges running north-west to south-east (on
+// full-resolution diagonals) cross them only at samples; an edge running south-west to
+// north-east crosses every cell diagonal it passes at the cell's centre. Each triangle edge is
+// horizontal, vertical or at 45 degrees, so its rows are spans with integer ends.
 double exactTriangleError(const SampleWindow& window, const Tri& t, double za, double zb, double zc) {
   const int s = window.stride;
   const int px[3] = {t.ax * s, t.bx * s, t.cx * s};
@@ -190,6 +240,16 @@ double exactTriangleError(const SampleWindow& window, const Tri& t, double za, d
     const int slope12 = unitSlope(x2 - x1);
     const int end = std::min(y2, window.lastY);
     for (int y = y1 + 1; y <= end; ++y) scanRow(y, x0 + (y - y0) * slopeLong, x1 + (y - y1) * slope12);
+  }
+  // At most one edge runs south-west to north-east; its cells beyond the valid rectangle (a
+  // clipped block's straddling triangles) are left out like the samples there.
+  for (int e = 0; e < 3; ++e) {
+    const int ex = px[(e + 1) % 3] - px[e], ey = py[(e + 1) % 3] - py[e];
+    if (ex != ey || ex == 0) continue;
+    const int sx = std::min(px[e], px[(e + 1) % 3]), sy = std::min(py[e], py[(e + 1) % 3]);
+    const int count = std::min({std::abs(ex), window.lastX - sx, window.lastY - sy});
+    const double edgeErr = diagonalEdgeError(window, sx, sy, count, c0, gx, gy);
+    err = edgeErr > err ? edgeErr : err;
   }
   return err;
 }
@@ -306,7 +366,7 @@ Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {
   if (s > 1) {
     m_leafError.assign(2 * std::size_t(n) * std::size_t(n), 0.0f);
   } else {
-    m_leafError.clear();  // half cells at stride 1 hold no sample but their corners
+    m_leafError.clear();  // at stride 1 a half cell's error is found from its corners (leafError)
   }
 
   // Vertex heights; outside a clipped block's rectangle, the nearest valid vertex's height
@@ -344,6 +404,7 @@ Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {
 
   const double dx = m_vertexSpacingX, dy = m_vertexSpacingY;
   const bool fastFinest = s == 1;  // the finest triangles then hold samples at known places
+  double largestGap = 0.0;  // the short path's cellCentreGap maximum: the floor at stride 1
 
   // One triangle of vertex v = (i, j) at height zm: stores its exact error and widens v's
   // error, bounding sphere (cover2: squared radius of the triangle alone) and nested radius.
@@ -356,26 +417,15 @@ Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {
     const std::size_t v = std::size_t(j) * side + i;
     const Coverage cover = clippedBlock ? coverage(tri, cellsX, cellsY) : Coverage::Inside;
     const double za = hAt(tri.ax, tri.ay), zb = hAt(tri.bx, tri.by), zc = hAt(tri.cx, tri.cy);
-    double exact = 0.0;
-    if (finest && fastFinest && cover == Coverage::Inside) {
-      // At stride 1 the finest two levels hold no samples but their corners and the
-      // midpoints of their sides (of the legs only for a square's half), where the plane is
-      // the mean of the side's ends.
-      exact = std::fabs(zm - 0.5 * (zb + zc));
-      if (finestSquareHalf) {
-        exact = std::max({exact, std::fabs(hAt((tri.ax + tri.bx) / 2, (tri.ay + tri.by) / 2) - 0.5 * (za + zb)),
-                          std::fabs(hAt((tri.cx + tri.ax) / 2, (tri.cy + tri.ay) / 2) - 0.5 * (zc + za))});
-      }
-    } else if (cover != Coverage::Outside) {
-      exact = exactTriangleError(window, tri, za, zb, zc);
-    }
+    // (Non-clipped stride-1 blocks take the short paths below for the finest two levels.)
+    const double exact = cover != Coverage::Outside ? exactTriangleError(window, tri, za, zb, zc) : 0.0;
     const float triErr = roundUp(exact);
     acc.forced |= cover == Coverage::Straddles;
     m_triangleError[2 * v + triSide] = triErr;
     acc.err = std::max(acc.err, double(triErr));
 
     // Sphere around the midpoint holding the triangle in 3D: its footprint lies within the
-    // circle through its corners, its plane and the samples under it within the corner
+    // circle through its corners, its plane and the surface under it within the corner
     // heights widened by its error.
     const double vertical = std::max(std::max(std::fabs(za - zm), std::fabs(zb - zm)), std::fabs(zc - zm)) + triErr;
     acc.cover2 = std::max(acc.cover2, horizontal2 + vertical * vertical);
@@ -409,17 +459,35 @@ Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {
       for (int i = alongX ? h : 0; i <= n; i += 2 * h) {
         const double zm = hAt(i, j);
         if (finest && fastFinest && !clippedBlock) {
-          // Half of all triangles, so a short path: at stride 1 both triangles hold no
-          // sample but their corners and the hypotenuse midpoint, so share one error.
+          // Half of all triangles, so a short path: at stride 1 each triangle holds no sample
+          // but its corners and the hypotenuse midpoint, and of its legs (cell diagonals) the
+          // one running south-west to north-east crosses the surface's diagonal at that cell's
+          // centre: the cell at (i-1, j) for the apex at (i, j+1) or (i-1, j), the cell at
+          // (i, j-1) for the apex at (i, j-1) or (i+1, j).
           const std::size_t v = std::size_t(j) * side + i;
           const double zb = hAt(i - ux, j - uy), zc = hAt(i + ux, j + uy);
-          const float triErr = roundUp(std::fabs(zm - 0.5 * (zb + zc)));
+          const double midpoint = std::fabs(zm - 0.5 * (zb + zc));
+          // Every cell cut south-west to north-east has its diagonal on such a leg, so the
+          // largest of these gaps is the floor.
+          auto gap = [&](int x, int y) {
+            const double g = cellCentreGap(hAt(x, y), hAt(x + 1, y), hAt(x, y + 1), hAt(x + 1, y + 1));
+            largestGap = std::max(largestGap, g);
+            return g;
+          };
           double vertical = std::max(std::fabs(zb - zm), std::fabs(zc - zm));
-          if (i - uy >= 0 && j - ux >= 0) vertical = std::max(vertical, std::fabs(hAt(i - uy, j - ux) - zm));
-          if (i + uy <= n && j + ux <= n) vertical = std::max(vertical, std::fabs(hAt(i + uy, j + ux) - zm));
-          vertical += triErr;
-          m_triangleError[2 * v] = m_triangleError[2 * v + 1] = triErr;
-          m_error[v] = triErr;
+          float err0 = 0.0f, err1 = 0.0f;  // sides as triangleSide: 1 for the apex north or east
+          if (i - uy >= 0 && j - ux >= 0) {
+            vertical = std::max(vertical, std::fabs(hAt(i - uy, j - ux) - zm));
+            err0 = roundUp(std::max(midpoint, alongX ? gap(i, j - 1) : gap(i - 1, j)));
+          }
+          if (i + uy <= n && j + ux <= n) {
+            vertical = std::max(vertical, std::fabs(hAt(i + uy, j + ux) - zm));
+            err1 = roundUp(std::max(midpoint, alongX ? gap(i - 1, j) : gap(i, j - 1)));
+          }
+          m_triangleError[2 * v] = err0;
+          m_triangleError[2 * v + 1] = err1;
+          m_error[v] = std::max(err0, err1);
+          vertical += double(m_error[v]);
           m_radius[v] = roundUp(std::sqrt(sideHorizontal2 + vertical * vertical) * (1.0 + kRadiusSlack));
           continue;
         }
@@ -444,21 +512,32 @@ Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {
         const double zm = hAt(i, j);
         if (finest && fastFinest && !clippedBlock) {
           // A quarter of all triangles, so a short path: at stride 1 a half square of side 2
-          // holds, besides its corners, the midpoints of its sides: this centre and two side
-          // midpoints, whose finished errors are exactly their deviations.
+          // holds, besides its corners, the midpoints of its sides: this centre and the two
+          // side midpoints on its legs, where the plane is the mean of the leg's ends. Its legs
+          // are axis-aligned; a hypotenuse running south-west to north-east crosses the
+          // diagonals of cells (i-1, j-1) and (i, j) at their centres, a quarter of the way
+          // along from each end.
           const std::size_t v = std::size_t(j) * side + i;
           const std::size_t west = v - 1, east = v + 1, south = v - side, north = v + side;
           const double zb = southWestToNorthEast ? hAt(i - 1, j - 1) : hAt(i + 1, j - 1);
           const double zc = southWestToNorthEast ? hAt(i + 1, j + 1) : hAt(i - 1, j + 1);
           const double za0 = southWestToNorthEast ? hAt(i - 1, j + 1) : hAt(i - 1, j - 1);  // apex west
           const double za1 = southWestToNorthEast ? hAt(i + 1, j - 1) : hAt(i + 1, j + 1);  // apex east
-          const float centre = roundUp(std::fabs(zm - 0.5 * (zb + zc)));
+          double shared = std::fabs(zm - 0.5 * (zb + zc));
+          if (southWestToNorthEast) {
+            shared = std::max({shared, std::fabs(0.5 * (hAt(i, j - 1) + hAt(i - 1, j)) - (0.75 * zb + 0.25 * zc)),
+                               std::fabs(0.5 * (hAt(i + 1, j) + hAt(i, j + 1)) - (0.25 * zb + 0.75 * zc))});
+          }
+          const double devWest = std::fabs(hAt(i - 1, j) - 0.5 * (hAt(i - 1, j - 1) + hAt(i - 1, j + 1)));
+          const double devEast = std::fabs(hAt(i + 1, j) - 0.5 * (hAt(i + 1, j - 1) + hAt(i + 1, j + 1)));
+          const double devSouth = std::fabs(hAt(i, j - 1) - 0.5 * (hAt(i - 1, j - 1) + hAt(i + 1, j - 1)));
+          const double devNorth = std::fabs(hAt(i, j + 1) - 0.5 * (hAt(i - 1, j + 1) + hAt(i + 1, j + 1)));
           // The apex's legs end at the side midpoints next to it.
-          const float err0 = std::max({centre, m_error[west], m_error[southWestToNorthEast ? north : south]});
-          const float err1 = std::max({centre, m_error[east], m_error[southWestToNorthEast ? south : north]});
+          const float err0 = roundUp(std::max({shared, devWest, southWestToNorthEast ? devNorth : devSouth}));
+          const float err1 = roundUp(std::max({shared, devEast, southWestToNorthEast ? devSouth : devNorth}));
           m_triangleError[2 * v] = err0;
           m_triangleError[2 * v + 1] = err1;
-          m_error[v] = std::max(err0, err1);
+          m_error[v] = std::max({err0, err1, m_error[west], m_error[east], m_error[south], m_error[north]});
           const double diagonal = std::max(std::fabs(zb - zm), std::fabs(zc - zm));
           const double vertical0 = std::max(diagonal, std::fabs(za0 - zm)) + err0;
           const double vertical1 = std::max(diagonal, std::fabs(za1 - zm)) + err1;
@@ -496,19 +575,34 @@ Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {
   };
   walk(forcedOnly, maxLeaf);
   m_maxError = coarsest;
-  m_floorError = m_leafError.empty() ? 0.0f : *std::max_element(m_leafError.begin(), m_leafError.end());
+  float floor = 0.0f;
+  if (!m_leafError.empty()) {
+    floor = *std::max_element(m_leafError.begin(), m_leafError.end());
+  } else if (!clippedBlock) {
+    floor = roundUp(largestGap);  // = the largest leafError, roundUp being monotone
+  } else {
+    for (int cj = 0; cj < cellsY; ++cj) {
+      for (int ci = (cj & 1); ci < cellsX; ci += 2) floor = std::max(floor, leafError(ci, cj, 0));
+    }
+  }
+  m_floorError = floor;
   return {};
 }
 
 // ---- queries ----------------------------------------------------------------------------
 
+float BlockLod::leafError(int ci, int cj, int sideIndex) const {
+  if (!m_leafError.empty()) return m_leafError[(std::size_t(cj) * m_footprint.cells() + ci) * 2 + sideIndex];
+  // Stride 1: the half cells are full-resolution cells, cut like the surface where the
+  // checkerboard cuts them north-west to south-east, the other way otherwise.
+  if (((ci + cj) & 1) != 0) return 0.0f;
+  return roundUp(cellCentreGap(m_height[vertexIndex(ci, cj)], m_height[vertexIndex(ci + 1, cj)],
+                               m_height[vertexIndex(ci, cj + 1)], m_height[vertexIndex(ci + 1, cj + 1)]));
+}
+
 float BlockLod::storedTriangleError(int ax, int ay, int bx, int by, int cx, int cy) const {
   const int sideIndex = triangleSide(ax, ay, bx, by, cx, cy);
-  if (isHalfCell(bx, cx)) {
-    if (m_leafError.empty()) return 0.0f;
-    const int ci = std::min(bx, cx), cj = std::min(by, cy);
-    return m_leafError[(std::size_t(cj) * m_footprint.cells() + ci) * 2 + sideIndex];
-  }
+  if (isHalfCell(bx, cx)) return leafError(std::min(bx, cx), std::min(by, cy), sideIndex);
   return m_triangleError[2 * vertexIndex((bx + cx) / 2, (by + cy) / 2) + sideIndex];
 }
 
@@ -556,8 +650,7 @@ void BlockLod::walkTriangle(int ax, int ay, int bx, int by, int cx, int cy, Acti
   const int mx2 = bx + cx, my2 = by + cy;  // doubled hypotenuse midpoint
   const int sideIndex = (2 * ax > mx2 || (2 * ax == mx2 && 2 * ay > my2)) ? 1 : 0;  // as triangleSide
   if (isHalfCell(bx, cx)) {
-    const std::size_t cell = std::size_t(std::min(by, cy)) * m_footprint.cells() + std::min(bx, cx);
-    leaf(ax, ay, bx, by, cx, cy, m_leafError.empty() ? 0.0f : m_leafError[2 * cell + sideIndex]);
+    leaf(ax, ay, bx, by, cx, cy, leafError(std::min(bx, cx), std::min(by, cy), sideIndex));
     return;
   }
   const int mx = mx2 / 2, my = my2 / 2;

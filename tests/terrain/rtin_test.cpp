@@ -1,6 +1,8 @@
 // Per-block LOD (rtin.hpp): exact and monotone errors, nested radii, conforming meshes from
 // every extraction, honest reported errors, the view-dependent bound, clipped blocks.
-// Everything is checked against brute force written here, independently of rtin.cpp.
+// Everything is checked against brute force written here, independently of rtin.cpp. The true
+// surface is the full-resolution triangulation of heightfield.hpp (each cell cut from (x+1, y)
+// to (x, y+1)), not only its samples.
 #include <polder/terrain/rtin.hpp>
 
 #include <algorithm>
@@ -95,22 +97,34 @@ P2 fullRes(const BlockFootprint& fp, int i, int j) {
 }
 
 // Brute force: largest vertical distance between the plane through the triangle's full-resolution
-// corners and every full-resolution sample in the closed triangle.
+// corners and the full-resolution triangulated surface over the closed triangle. Their difference is
+// linear on every piece of the overlay of the two triangulations, so its extremes lie at the
+// overlay's vertices: samples, and points where the triangle's edges cross cell diagonals. Those
+// crossings are cell centres (a bintree edge is axis-aligned or at 45 degrees), so taking every
+// sample and every cell centre in the closed triangle (a superset of the overlay's vertices, all on
+// the surface) gives the exact maximum. At a cell centre the surface is the mean of the diagonal's
+// ends, (x+1, y) and (x, y+1). Works in doubled coordinates so that centres are integers.
 double bruteError(const Heightfield& field, const BlockFootprint& fp, GridVertex a, GridVertex b, GridVertex c) {
   const P2 pa = fullRes(fp, a.i, a.j), pb = fullRes(fp, b.i, b.j), pc = fullRes(fp, c.i, c.j);
-  const long long area2 = cross(pa, pb, pc);
+  const P2 qa{2 * pa.x, 2 * pa.y}, qb{2 * pb.x, 2 * pb.y}, qc{2 * pc.x, 2 * pc.y};
+  const long long area2 = cross(qa, qb, qc);
   const double za = field.at(int(pa.x), int(pa.y)), zb = field.at(int(pb.x), int(pb.y)),
                zc = field.at(int(pc.x), int(pc.y));
   const long long x0 = std::min({pa.x, pb.x, pc.x}), x1 = std::max({pa.x, pb.x, pc.x});
   const long long y0 = std::min({pa.y, pb.y, pc.y}), y1 = std::max({pa.y, pb.y, pc.y});
   double err = 0.0;
-  for (long long y = y0; y <= y1; ++y) {
-    for (long long x = x0; x <= x1; ++x) {
-      const P2 p{x, y};
-      const long long wa = cross(pb, pc, p), wb = cross(pc, pa, p), wc = cross(pa, pb, p);
+  for (long long y2 = 2 * y0; y2 <= 2 * y1; ++y2) {
+    for (long long x2 = 2 * x0; x2 <= 2 * x1; ++x2) {
+      const bool sample = (x2 % 2 == 0) && (y2 % 2 == 0), centre = (x2 % 2 == 1) && (y2 % 2 == 1);
+      if (!sample && !centre) continue;
+      const P2 p{x2, y2};
+      const long long wa = cross(qb, qc, p), wb = cross(qc, qa, p), wc = cross(qa, qb, p);
       if (area2 > 0 ? (wa < 0 || wb < 0 || wc < 0) : (wa > 0 || wb > 0 || wc > 0)) continue;
       const double plane = (wa * za + wb * zb + wc * zc) / double(area2);
-      err = std::max(err, std::fabs(double(field.at(int(x), int(y))) - plane));
+      const int x = int(x2 / 2), y = int(y2 / 2);
+      const double surface =
+          sample ? double(field.at(x, y)) : 0.5 * (double(field.at(x + 1, y)) + double(field.at(x, y + 1)));
+      err = std::max(err, std::fabs(surface - plane));
     }
   }
   return err;
@@ -252,6 +266,7 @@ void expectHierarchy(const Heightfield& field, const BlockLod& lod) {
   const int n = fp.cells();
   std::vector<std::vector<int>> pending = {{0, 0, n, 0, 0, n}, {n, n, 0, n, n, 0}};
   int checked = 0;
+  double floor = 0.0;
   while (!pending.empty()) {
     const std::vector<int> t = pending.back();
     pending.pop_back();
@@ -264,7 +279,10 @@ void expectHierarchy(const Heightfield& field, const BlockLod& lod) {
       ASSERT_GE(double(stored), brute) << "triangle error below the exact error";
       ASSERT_LE(double(stored), brute + tolerance(brute)) << "triangle error not exact";
     }
-    if (std::abs(b.i - c.i) == 1) continue;  // half cell: a leaf
+    if (std::abs(b.i - c.i) == 1) {  // half cell: a leaf, whose error is the floor
+      if (inside) floor = std::max(floor, double(stored));
+      continue;
+    }
     ++checked;
     const int mi = (b.i + c.i) / 2, mj = (b.j + c.j) / 2;
     const double em = lod.vertexError(mi, mj), rm = lod.vertexRadius(mi, mj);
@@ -279,6 +297,17 @@ void expectHierarchy(const Heightfield& field, const BlockLod& lod) {
           const P2 p{x, y};
           if (cross(pa, pb, p) < 0 || cross(pb, pc, p) < 0 || cross(pc, pa, p) < 0) continue;
           ASSERT_LE(glm::length(worldRelative(field, fp, x, y) - pm), rm) << "sample outside the sphere";
+        }
+      }
+      // And the surface at the cell centres on its edges (see bruteError), in doubled coordinates.
+      const P2 qa{2 * pa.x, 2 * pa.y}, qb{2 * pb.x, 2 * pb.y}, qc{2 * pc.x, 2 * pc.y};
+      for (long long y = std::min({pa.y, pb.y, pc.y}); y < std::max({pa.y, pb.y, pc.y}); ++y) {
+        for (long long x = std::min({pa.x, pb.x, pc.x}); x < std::max({pa.x, pb.x, pc.x}); ++x) {
+          const P2 p{2 * x + 1, 2 * y + 1};
+          if (cross(qa, qb, p) < 0 || cross(qb, qc, p) < 0 || cross(qc, qa, p) < 0) continue;
+          const glm::dvec3 centre((x + 0.5 - fp.x0) * field.spacingX, (y + 0.5 - fp.y0) * field.spacingY,
+                                  0.5 * (double(field.at(int(x) + 1, int(y))) + double(field.at(int(x), int(y) + 1))));
+          ASSERT_LE(glm::length(centre - pm), rm) << "cell centre outside the sphere";
         }
       }
     }
@@ -296,6 +325,10 @@ void expectHierarchy(const Heightfield& field, const BlockLod& lod) {
     }
   }
   EXPECT_EQ(checked, 2 * (n * n - 1));
+  // The full-detail mesh's error: its half cells' (not 0 at stride 1: half of them are cut along
+  // the other diagonal than the full-resolution surface).
+  EXPECT_GE(double(lod.floorError()), floor);
+  EXPECT_NEAR(double(lod.floorError()), floor, tolerance(floor));
 }
 
 struct Block {
@@ -338,9 +371,6 @@ TEST_P(RtinBlockTest, ErrorsAreExactMonotoneAndNested) {
                                            {std::uint16_t(n), 0}));
   EXPECT_GE(double(block.lod.maxError()), roots);
   EXPECT_NEAR(double(block.lod.maxError()), roots, tolerance(roots));
-  if (cfg.stride == 1) {
-    EXPECT_EQ(block.lod.floorError(), 0.0f);
-  }
 }
 
 TEST_P(RtinBlockTest, ThresholdExtractionIsConformingAndHonest) {
@@ -356,10 +386,14 @@ TEST_P(RtinBlockTest, ThresholdExtractionIsConformingAndHonest) {
     SCOPED_TRACE("threshold " + std::to_string(threshold) + ", " + std::to_string(mesh.triangleCount()) + " triangles");
     expectConforming(mesh);
     expectHonest(block.field, mesh);
-    if (cfg.stride == 1) {
-      EXPECT_LE(mesh.maxError, threshold);
-    } else {
-      EXPECT_LE(mesh.maxError, std::max(threshold, block.lod.floorError()));
+    EXPECT_LE(mesh.maxError, std::max(threshold, block.lod.floorError()));
+    // Only half cells (the floor) may exceed the threshold.
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+      const GridVertex a = mesh.vertices[mesh.indices[3 * t]], b = mesh.vertices[mesh.indices[3 * t + 1]],
+                       c = mesh.vertices[mesh.indices[3 * t + 2]];
+      if (std::abs(b.i - c.i) != 1) {
+        ASSERT_LE(block.lod.triangleError(a, b, c), threshold) << "triangle " << t;
+      }
     }
     EXPECT_GE(mesh.triangleCount(), previous);
     previous = mesh.triangleCount();
@@ -482,7 +516,7 @@ TEST(Rtin, LargestBlocksStayConforming) {
   block.lod.extractThreshold(0.05f, mesh, scratch);
   expectConforming(mesh);
   expectHonest(block.field, mesh);
-  EXPECT_LE(mesh.maxError, 0.05f);
+  EXPECT_LE(mesh.maxError, std::max(0.05f, block.lod.floorError()));
   block.lod.extractCount(5000, mesh, scratch);
   expectConforming(mesh);
   EXPECT_LE(mesh.triangleCount(), 5000u);
@@ -496,6 +530,123 @@ TEST(Rtin, TiltedPlaneIsTwoTriangles) {
   RtinScratch scratch;
   block.lod.extractThreshold(0.0f, mesh, scratch);
   EXPECT_EQ(mesh.triangleCount(), 2u);
+}
+
+// The full-resolution surface at sample coordinates (x, y), from heightfield.hpp's convention
+// alone: cell (cx, cy) is cut from (cx+1, cy) to (cx, cy+1) into {(cx,cy), (cx+1,cy), (cx,cy+1)}
+// and {(cx+1,cy+1), (cx,cy+1), (cx+1,cy)}, each linear.
+double trueSurface(const Heightfield& field, double x, double y) {
+  const int cx = std::clamp(int(std::floor(x)), 0, field.width - 2);
+  const int cy = std::clamp(int(std::floor(y)), 0, field.height - 2);
+  const double fx = x - cx, fy = y - cy;
+  const double h00 = field.at(cx, cy), h10 = field.at(cx + 1, cy), h01 = field.at(cx, cy + 1),
+               h11 = field.at(cx + 1, cy + 1);
+  if (fx + fy <= 1.0) return h00 + fx * (h10 - h00) + fy * (h01 - h00);
+  return h11 + (1.0 - fx) * (h01 - h11) + (1.0 - fy) * (h10 - h11);
+}
+
+// Largest |plane - trueSurface| over a dense grid inside the closed triangle: 16 x 16 points per
+// full-resolution cell of its bounding box (and its far sides), whatever lies in the triangle.
+double denseError(const Heightfield& field, const BlockFootprint& fp, GridVertex a, GridVertex b, GridVertex c) {
+  constexpr int kSub = 16;
+  const P2 pa = fullRes(fp, a.i, a.j), pb = fullRes(fp, b.i, b.j), pc = fullRes(fp, c.i, c.j);
+  const P2 qa{kSub * pa.x, kSub * pa.y}, qb{kSub * pb.x, kSub * pb.y}, qc{kSub * pc.x, kSub * pc.y};
+  const long long area2 = cross(qa, qb, qc);
+  const double za = field.at(int(pa.x), int(pa.y)), zb = field.at(int(pb.x), int(pb.y)),
+               zc = field.at(int(pc.x), int(pc.y));
+  double err = 0.0;
+  for (long long y = std::min({qa.y, qb.y, qc.y}); y <= std::max({qa.y, qb.y, qc.y}); ++y) {
+    for (long long x = std::min({qa.x, qb.x, qc.x}); x <= std::max({qa.x, qb.x, qc.x}); ++x) {
+      const P2 p{x, y};
+      const long long wa = cross(qb, qc, p), wb = cross(qc, qa, p), wc = cross(qa, qb, p);
+      if (area2 > 0 ? (wa < 0 || wb < 0 || wc < 0) : (wa > 0 || wb > 0 || wc > 0)) continue;
+      const double plane = (wa * za + wb * zb + wc * zc) / double(area2);
+      err = std::max(err, std::fabs(plane - trueSurface(field, double(x) / kSub, double(y) / kSub)));
+    }
+  }
+  return err;
+}
+
+// Ridges across the cell diagonals: every reported error bounds the distance between the drawn
+// triangle and the full-resolution triangulated surface at every point under it, not only at
+// the samples (bintree edges running south-west to north-east cross each cell's diagonal at
+// its centre, where the surface is the mean of the diagonal's ends).
+TEST(Rtin, ReportedErrorsBoundTheTriangulatedSurfaceEverywhere) {
+  enum class Ground { Random, Checkerboard, Sines };
+  struct Case {
+    Ground ground;
+    int k, stride;
+    bool clipped;
+  };
+  const Case cases[] = {{Ground::Random, 4, 1, false},       {Ground::Random, 3, 4, false},
+                        {Ground::Checkerboard, 4, 1, false}, {Ground::Checkerboard, 3, 2, false},
+                        {Ground::Sines, 5, 1, false},        {Ground::Random, 4, 2, true},
+                        {Ground::Checkerboard, 4, 1, true}};
+  std::mt19937 rng(2024u);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int failures = 0;
+  for (const Case& cs : cases) {
+    const int n = 1 << cs.k;
+    const int x0 = 2, y0 = 1;
+    // A clipped block keeps 11 x 6 of its cells (and a remainder narrower than the stride).
+    const int w = x0 + (cs.clipped ? 11 : n) * cs.stride + 1 + (cs.clipped ? cs.stride - 1 : 2);
+    const int h = y0 + (cs.clipped ? 6 : n) * cs.stride + 1 + (cs.clipped ? 0 : 3);
+    Heightfield field(w, h, 5.0, 5.0);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        float z = 0.0f;
+        switch (cs.ground) {
+          case Ground::Random: z = float(100.0 * unit(rng)); break;
+          // In every cell one diagonal's ends are high and the other's low: a ridge or valley
+          // along each full-resolution diagonal, on a tilt.
+          case Ground::Checkerboard: z = ((x + y) & 1 ? 30.0f : 0.0f) + 0.7f * float(x) - 0.4f * float(y); break;
+          case Ground::Sines:
+            z = 20.0f * std::sin(0.9f * float(x) - 0.6f * float(y)) + 8.0f * std::cos(0.2f * float(y));
+            break;
+        }
+        field.at(x, y) = z;
+      }
+    }
+    auto built = BlockLod::build(field, BlockFootprint{x0, y0, cs.k, cs.stride});
+    ASSERT_TRUE(built.ok()) << built.error().message;
+    const BlockLod& lod = *built;
+    ASSERT_EQ(lod.clipped(), cs.clipped);
+    BlockMesh mesh;
+    RtinScratch scratch;
+    auto check = [&](const std::string& what) {
+      SCOPED_TRACE("ground " + std::to_string(int(cs.ground)) + ", k " + std::to_string(cs.k) + ", stride " +
+                   std::to_string(cs.stride) + (cs.clipped ? ", clipped" : "") + ", " + what + ", " +
+                   std::to_string(mesh.triangleCount()) + " triangles");
+      expectConforming(mesh);
+      for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const GridVertex a = mesh.vertices[mesh.indices[3 * t]], b = mesh.vertices[mesh.indices[3 * t + 1]],
+                         c = mesh.vertices[mesh.indices[3 * t + 2]];
+        const double dense = denseError(field, lod.footprint(), a, b, c);
+        const double reported = lod.triangleError(a, b, c), slack = 1e-9 * (1.0 + dense);
+        if (dense > reported + slack || dense > double(mesh.maxError) + slack) {
+          if (++failures <= 10) {
+            ADD_FAILURE() << "triangle (" << a.i << "," << a.j << ") (" << b.i << "," << b.j << ") (" << c.i << ","
+                          << c.j << "): surface " << dense << " m off, reported " << reported << " (mesh "
+                          << mesh.maxError << ")";
+          }
+        }
+      }
+    };
+    for (float fraction : {2.0f, 0.6f, 0.3f, 0.1f, 0.02f, 0.0f, -1.0f}) {
+      lod.extractThreshold(fraction < 0.0f ? -1.0f : lod.maxError() * fraction * float(0.5 + unit(rng)), mesh, scratch);
+      check("threshold fraction " + std::to_string(fraction));
+    }
+    for (int trial = 0; trial < 6; ++trial) {
+      lod.extractCount(std::size_t(2 + unit(rng) * 2.0 * n * n), mesh, scratch);
+      check("count trial " + std::to_string(trial));
+      const double extent = n * cs.stride * field.spacingX;
+      LodView view{glm::dvec3(unit(rng) * extent, unit(rng) * extent, lod.maxHeight() + 5.0 + unit(rng) * 200.0),
+                   600.0, 0.5 + 4.0 * unit(rng), 1.0};
+      lod.extractView(view, mesh, scratch);
+      check("view trial " + std::to_string(trial));
+    }
+  }
+  EXPECT_EQ(failures, 0) << "triangles whose reported error misses the triangulated surface";
 }
 
 TEST(Rtin, AnisotropicSpacingKeepsRadiiNested) {

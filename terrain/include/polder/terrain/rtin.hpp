@@ -22,14 +22,22 @@
 // so a mesh is a set of active vertices: a triangle is split iff its midpoint is active. The
 // finest triangles are half cells.
 //
-// Errors. A triangle's error is EXACT against the full-resolution surface: the largest
-// vertical distance, in metres, between its plane and any full-resolution sample in it (all
-// samples, not only the strided ones, edges included). A vertex's error is the largest error
-// of the triangles it splits and of every vertex below it, so errors only shrink going down
-// the tree. Therefore any rule "active iff error > threshold" (threshold monotone too) gives a
-// conforming mesh (no T-junctions) in which every triangle's exact error is at most its
-// midpoint's error. A vertex's radius bounds, in 3D, the triangles it splits (their drawn
-// planes and the true samples under them) and, nested, the spheres of every vertex below it,
+// Errors. A triangle's error is EXACT against the full-resolution surface, which is the
+// triangulation of heightfield.hpp (each cell cut from (x+1, y) to (x, y+1)), not only its
+// samples: the largest vertical distance, in metres, between the triangle's plane and that
+// surface anywhere over the closed triangle. The difference is piecewise linear, largest at a
+// vertex of the two triangulations' overlay: a full-resolution sample in the triangle (all
+// samples, not only the strided ones, edges included), or a cell centre on a triangle edge that
+// runs south-west to north-east (such an edge crosses each cell diagonal there; the surface is
+// the mean of the diagonal's ends), and both are scanned. So at stride 1 the finest triangles
+// (half cells) are not free either: the bintree cuts half of the cells (a checkerboard) along
+// the other diagonal than the surface, off by up to |h00 + h11 - h10 - h01| / 2 at the centre.
+// A vertex's error is the largest error of the triangles it splits and of every vertex below
+// it, so errors only shrink going down the tree. Therefore any rule "active iff error >
+// threshold" (threshold monotone too) gives a conforming mesh (no T-junctions) in which every
+// triangle's exact error is at most its midpoint's error, except half cells, whose error is at
+// most floorError(). A vertex's radius bounds, in 3D, the triangles it splits (their drawn
+// planes and the true surface under them) and, nested, the spheres of every vertex below it,
 // which keeps the view-dependent test monotone.
 //
 // Clipped blocks. A block may run past the DEM's east or north edge. It then keeps the valid
@@ -73,7 +81,9 @@ inline constexpr int kRtinMaxK = 8;
 //   error(v) > tolerancePx * max(|camera - v| - radius(v), nearM) / projectionConstant.
 // Every triangle of the result then projects to at most tolerancePx pixels of vertical error,
 // K * error / max(distance to the triangle, nearM) <= tolerancePx, except the finest triangles
-// of a strided block, whose error (BlockLod::floorError) only a finer quadtree level removes.
+// (half cells), whose error is at most BlockLod::floorError(): at a stride above 1 a finer
+// quadtree level removes it; at stride 1 it is the cells the bintree cuts along the other
+// diagonal than the surface (see "Errors" above), which no level removes.
 struct LodView {
   glm::dvec3 camera{0.0};           // camera position minus BlockLod::origin(), metres
   double projectionConstant = 1.0;  // K = viewport height / (2 tan(fovy / 2)), Camera::projectionConstant()
@@ -103,9 +113,11 @@ class BlockLod {
   BlockLod() = default;
 
   // Builds the hierarchy of `footprint` over `field`. O(full-resolution samples * 2k) time:
-  // every bintree level scans all the samples under it once. Errors (never asserts) when the
-  // block has no whole cell inside the field or a sample in it is not finite. Programmer
-  // errors (k outside 1..kRtinMaxK, stride not a power of two, negative origin) assert.
+  // every bintree level scans all the samples under it once (and the cell centres on its
+  // triangles' south-west to north-east edges, O(side) per triangle). Errors (never asserts)
+  // when the block has no whole cell inside the field or a sample in it is not finite.
+  // Programmer errors (k outside 1..kRtinMaxK, stride not a power of two, negative origin)
+  // assert.
   static Result<BlockLod> build(const Heightfield& field, const BlockFootprint& footprint);
   // Same, reusing this object's memory.
   Status rebuild(const Heightfield& field, const BlockFootprint& footprint);
@@ -131,7 +143,9 @@ class BlockLod {
   // The block's node error for the quadtree's delta: the exact error of its coarsest mesh,
   // the two root triangles (for a clipped block, the mesh of its forced splits).
   float maxError() const { return m_maxError; }
-  // The exact error of the full-detail mesh: 0 at stride 1, what the stride leaves otherwise.
+  // The exact error of the full-detail mesh (its half cells): what the stride leaves, and the
+  // cells the bintree cuts along the other diagonal than the surface. Not 0 at stride 1 either
+  // unless each of those cells is planar (|h00 + h11 - h10 - h01| / 2 = 0).
   float floorError() const { return m_floorError; }
   // Height range of the full-resolution samples the mesh covers (for node bounding boxes).
   float minHeight() const { return m_minHeight; }
@@ -168,6 +182,8 @@ class BlockLod {
   template <class Active>
   void emit(Active& active, BlockMesh& out, RtinScratch& scratch) const;
   float storedTriangleError(int ax, int ay, int bx, int by, int cx, int cy) const;
+  // Error of a half cell: cell (ci, cj), side as triangleSide in rtin.cpp.
+  float leafError(int ci, int cj, int sideIndex) const;
 
   BlockFootprint m_footprint;
   int m_cellsX = 0;
@@ -184,7 +200,7 @@ class BlockLod {
   std::vector<float> m_error;          // per vertex, monotone
   std::vector<float> m_radius;         // per vertex, nested
   std::vector<float> m_triangleError;  // per vertex, its two triangles (see triangleSide in rtin.cpp)
-  std::vector<float> m_leafError;      // per cell, its two half-cell triangles; empty at stride 1
+  std::vector<float> m_leafError;      // per cell, its two half-cell triangles; empty at stride 1 (leafError)
 };
 
 }  // namespace polder::terrain
