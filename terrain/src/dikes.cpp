@@ -75,8 +75,8 @@ std::int64_t orient(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int6
 }
 
 std::string nodeName(const NodeId& node) {
-  return "(level " + std::to_string(int(node.level)) + ", " + std::to_string(node.bx) + ", " +
-         std::to_string(node.by) + ")";
+  return "(level " + std::to_string(int(node.level)) + ", " + std::to_string(node.bx) + ", " + std::to_string(node.by) +
+         ")";
 }
 
 // Rounds a non-negative value up to float, so reported errors never fall below the exact ones.
@@ -98,11 +98,16 @@ std::int64_t ceilDiv(std::int64_t a, std::int64_t b) {  // b > 0
 // Largest |surface - plane| where the segment a-b crosses the surface's edges: vertical
 // (x = i) and horizontal (y = j) grid lines, and cell diagonals (x + y = c), strictly between
 // its ends. The surface there interpolates the two samples of the edge crossed.
-double edgeCrossingError(const Heightfield& field, const DikeVertex& a, const DikeVertex& b, double c0, double gx, double gy) {
+double edgeCrossingError(const Heightfield& field, const DikeVertex& a, const DikeVertex& b, double c0, double gx,
+                         double gy) {
   const double dx = double(b.x) - a.x, dy = double(b.y) - a.y;
   double err = 0.0;
-  auto sampleAt = [&](int x, int y) { return double(field.at(std::clamp(x, 0, field.width - 1), std::clamp(y, 0, field.height - 1))); };
-  auto check = [&](double px, double py, double surface) { err = std::max(err, std::fabs(surface - (c0 + gx * px + gy * py))); };
+  auto sampleAt = [&](int x, int y) {
+    return double(field.at(std::clamp(x, 0, field.width - 1), std::clamp(y, 0, field.height - 1)));
+  };
+  auto check = [&](double px, double py, double surface) {
+    err = std::max(err, std::fabs(surface - (c0 + gx * px + gy * py)));
+  };
   // Vertical grid lines.
   for (int i = std::min(a.x, b.x) + 1; i < std::max(a.x, b.x); ++i) {
     const double t = (i - a.x) / dx, py = a.y + t * dy;
@@ -213,26 +218,32 @@ struct DikeBuilder {
   // Clockwise position of chain index c of a side (chains sorted west to east / south to north).
   static std::uint32_t position(const Node& n, std::uint32_t side, std::uint32_t c) {
     switch (side) {
-      case kNorth: return c;
-      case kEast: return eastStart(n) + (n.sideCount[kEast] - 1 - c);
-      case kSouth: return southStart(n) + (n.sideCount[kSouth] - 1 - c);
-      default: return westStart(n) + c;
+      case kNorth:
+        return c;
+      case kEast:
+        return eastStart(n) + (n.sideCount[kEast] - 1 - c);
+      case kSouth:
+        return southStart(n) + (n.sideCount[kSouth] - 1 - c);
+      default:
+        return westStart(n) + c;
     }
   }
 
   // Output vertex of chain index c of a side: chains map to runs of clockwise positions.
   static std::uint32_t chainVertex(const Node& n, std::uint32_t side, std::uint32_t c) {
     switch (side) {
-      case kNorth: return n.vertexBase + c;
-      case kEast: return n.vertexBase + eastStart(n) + (n.sideCount[kEast] - 1 - c);
-      case kSouth: return n.vertexBase + southStart(n) + (n.sideCount[kSouth] - 1 - c);
-      default: return c + 1 == n.sideCount[kWest] ? n.vertexBase : n.vertexBase + westStart(n) + c;
+      case kNorth:
+        return n.vertexBase + c;
+      case kEast:
+        return n.vertexBase + eastStart(n) + (n.sideCount[kEast] - 1 - c);
+      case kSouth:
+        return n.vertexBase + southStart(n) + (n.sideCount[kSouth] - 1 - c);
+      default:
+        return c + 1 == n.sideCount[kWest] ? n.vertexBase : n.vertexBase + westStart(n) + c;
     }
   }
 
-  std::uint32_t vertexAt(const Node& n, std::uint32_t p) const {
-    return n.vertexBase + (p == n.perimeter ? 0u : p);
-  }
+  std::uint32_t vertexAt(const Node& n, std::uint32_t p) const { return n.vertexBase + (p == n.perimeter ? 0u : p); }
   const DikeVertex& point(std::uint32_t vertex) const { return out.vertices[vertex]; }
 
   // Coordinate along a side (x for north/south, y for east/west) of chain index c.
@@ -243,10 +254,14 @@ struct DikeBuilder {
 
   bool sideDead(const Node& n, std::uint32_t side) const {
     switch (side) {
-      case kNorth: return n.y1 == height - 1;
-      case kEast: return n.x1 == width - 1;
-      case kSouth: return n.y0 == 0;
-      default: return n.x0 == 0;
+      case kNorth:
+        return n.y1 == height - 1;
+      case kEast:
+        return n.x1 == width - 1;
+      case kSouth:
+        return n.y0 == 0;
+      default:
+        return n.x0 == 0;
     }
   }
 
@@ -312,7 +327,8 @@ struct DikeBuilder {
     for (std::uint32_t b = 0; b < s.m_nodes.size(); ++b) {
       const Node& node = s.m_nodes[b];
       DikeVertex* const first = out.vertices.data() + node.vertexBase;
-      std::fill(s.m_vertexOwner.begin() + node.vertexBase, s.m_vertexOwner.begin() + node.vertexBase + node.perimeter, b);
+      std::fill(s.m_vertexOwner.begin() + node.vertexBase, s.m_vertexOwner.begin() + node.vertexBase + node.perimeter,
+                b);
       const BlockMesh* mesh = node.mesh;
       if (!mesh) {
         first[0] = DikeVertex{node.x0, node.y1};
@@ -369,7 +385,9 @@ struct DikeBuilder {
 
   // ---- the cut's level-0 lookup grid --------------------------------------------------------
 
-  DikeScratch::Cell& cell(int bx, int by) { return s.m_cells[std::size_t(by) * std::size_t(blocksX) + std::size_t(bx)]; }
+  DikeScratch::Cell& cell(int bx, int by) {
+    return s.m_cells[std::size_t(by) * std::size_t(blocksX) + std::size_t(bx)];
+  }
   std::uint32_t nodeAt(int bx, int by) { return cell(bx, by).node; }
 
   Status fillGrid() {
@@ -403,8 +421,7 @@ struct DikeBuilder {
   // ---- border samples ------------------------------------------------------------------------
 
   std::uint32_t borderVertex(int x, int y, std::uint32_t owner) {
-    DikeScratch::BorderSample& slot =
-        x == width - 1 ? s.m_eastBorder[std::size_t(y)] : s.m_northBorder[std::size_t(x)];
+    DikeScratch::BorderSample& slot = x == width - 1 ? s.m_eastBorder[std::size_t(y)] : s.m_northBorder[std::size_t(x)];
     if (slot.stamp != stamp) {
       slot.stamp = stamp;
       slot.vertex = std::uint32_t(out.vertices.size());
@@ -443,16 +460,18 @@ struct DikeBuilder {
   // the west chain and v the east one; otherwise u is the south chain and v the north one.
   // Either way both kinds of step give the triangle (u_i, v_j, next) counter-clockwise in one
   // vertex order (vertical) or the other.
-  void zip(const DikeScratch::ChainPoint* u, std::uint32_t uCount, const DikeScratch::ChainPoint* v, std::uint32_t vCount,
-           bool vertical, std::uint32_t owner) {
+  void zip(const DikeScratch::ChainPoint* u, std::uint32_t uCount, const DikeScratch::ChainPoint* v,
+           std::uint32_t vCount, bool vertical, std::uint32_t owner) {
     openTriangles(uCount + vCount - 2);
     const std::uint32_t uLast = uCount - 1, vLast = vCount - 1;
     std::uint32_t i = 0, j = 0;
     while (i < uLast || j < vLast) {
       const bool advanceU = j == vLast || (i < uLast && u[i + 1].along <= v[j + 1].along);
       const std::uint32_t a = u[i].vertex, b = v[j].vertex, c = advanceU ? u[i + 1].vertex : v[j + 1].vertex;
-      if (vertical) triangle(a, b, c, owner);
-      else triangle(a, c, b, owner);
+      if (vertical)
+        triangle(a, b, c, owner);
+      else
+        triangle(a, c, b, owner);
       i += advanceU ? 1 : 0;
       j += advanceU ? 0 : 1;
     }
@@ -461,7 +480,8 @@ struct DikeBuilder {
   // Copies chain indices [a, b] of a side into `chain`: the output vertices of a side run
   // through consecutive clockwise positions, up or down (the west side's last vertex, the
   // north-west corner, is position 0).
-  void copyChain(const Node& n, std::uint32_t side, std::uint32_t a, std::uint32_t b, DikeScratch::ChainPoint* chain) const {
+  void copyChain(const Node& n, std::uint32_t side, std::uint32_t a, std::uint32_t b,
+                 DikeScratch::ChainPoint* chain) const {
     const std::uint32_t first = chainVertex(n, side, a);
     const std::int32_t step = (side == kNorth || side == kWest) ? 1 : -1;
     const bool alongX = side == kNorth || side == kSouth;
@@ -486,8 +506,10 @@ struct DikeBuilder {
       while (a < b) {
         const std::uint32_t m = (a + b) / 2;
         const int c = along(n, side, m);
-        if (strict ? c <= value : c < value) a = m + 1;
-        else b = m;
+        if (strict ? c <= value : c < value)
+          a = m + 1;
+        else
+          b = m;
       }
       return a;
     };
@@ -552,7 +574,8 @@ struct DikeBuilder {
     DikeScratch::ChainPoint* border = s.m_chains.data() + count;
     for (std::uint32_t t = 0; t < samples; ++t) {  // numbered once here, not per triangle
       const int along = lo + int(t);
-      border[t] = DikeScratch::ChainPoint{vertical ? borderVertex(width - 1, along, ui) : borderVertex(along, height - 1, ui), along};
+      border[t] = DikeScratch::ChainPoint{
+          vertical ? borderVertex(width - 1, along, ui) : borderVertex(along, height - 1, ui), along};
     }
     copyChain(u, side, 0, count - 1, s.m_chains.data());
     zip(s.m_chains.data(), count, border, samples, vertical, ui);
@@ -566,8 +589,10 @@ struct DikeBuilder {
     at.borderXs = xsBorder;
     at.borderXe = xeBorder;
     at.borderCoordinate = vertical ? hi : lo;
-    if (vertical) s.m_nodes[ui].eastBorderAttachment = a;
-    else s.m_nodes[ui].northBorderAttachment = a;
+    if (vertical)
+      s.m_nodes[ui].eastBorderAttachment = a;
+    else
+      s.m_nodes[ui].northBorderAttachment = a;
   }
 
   void buildZippers() {
@@ -787,9 +812,12 @@ struct DikeBuilder {
       const std::uint32_t side = sideOfEdge(n, w.p);
       if (sideDead(n, side)) {
         Status st;
-        if (side == kNorth && w.p == 0) st = walkNorth(w, n.x0);
-        else if (side == kEast && w.p == eastStart(n)) st = walkEast(w, n.y1);
-        else st = internal("a junction reached the DEM's south or west border");
+        if (side == kNorth && w.p == 0)
+          st = walkNorth(w, n.x0);
+        else if (side == kEast && w.p == eastStart(n))
+          st = walkEast(w, n.y1);
+        else
+          st = internal("a junction reached the DEM's south or west border");
         if (!st) return st;
         continue;
       }
@@ -862,7 +890,8 @@ struct DikeBuilder {
       const bool ac = o(0, 1, 2) > 0 && o(0, 2, 3) > 0, bd = o(1, 2, 3) > 0 && o(1, 3, 0) > 0;
       if (!ac && !bd) return internal("a junction quadrilateral with no diagonal");
       auto length2 = [&](std::uint32_t a, std::uint32_t b) {
-        const std::int64_t dx = std::int64_t(point(poly[a]).x) - point(poly[b]).x, dy = std::int64_t(point(poly[a]).y) - point(poly[b]).y;
+        const std::int64_t dx = std::int64_t(point(poly[a]).x) - point(poly[b]).x,
+                           dy = std::int64_t(point(poly[a]).y) - point(poly[b]).y;
         return dx * dx + dy * dy;
       };
       if (ac && (!bd || length2(0, 2) <= length2(1, 3))) {
@@ -898,8 +927,7 @@ struct DikeBuilder {
       }
       if (best == kNone) return internal("a junction polygon has no ear (not simple)");
       const std::uint32_t a = ears[best].prev, c = ears[best].next;
-      triangle(ears[a].vertex, ears[best].vertex, ears[c].vertex,
-               junctionOwner);
+      triangle(ears[a].vertex, ears[best].vertex, ears[c].vertex, junctionOwner);
       ears[a].next = c;
       ears[c].prev = a;
       if (head == best) head = c;
@@ -987,9 +1015,12 @@ float dikeTriangleErrors(const Heightfield& field, const DikeMesh& dikes, std::v
             a = -a;
             b = -b;
           }
-          if (a > 0) lo = std::max(lo, ceilDiv(-b, a));
-          else if (a < 0) hi = std::min(hi, floorDiv(b, -a));
-          else if (b < 0) empty = true;
+          if (a > 0)
+            lo = std::max(lo, ceilDiv(-b, a));
+          else if (a < 0)
+            hi = std::min(hi, floorDiv(b, -a));
+          else if (b < 0)
+            empty = true;
         }
         if (empty || lo > hi) continue;
         const int x0 = int(std::max<std::int64_t>(lo, 0)), x1 = int(std::min<std::int64_t>(hi, field.width - 1));
@@ -1068,7 +1099,8 @@ Result<DikeErrorBounds> DikeErrorBounds::build(const Heightfield& field, const B
   for (int level = 1; level <= layout.rootLevel(); ++level) {
     const int nx = layout.nodesX(level), ny = layout.nodesY(level);
     const int cx = layout.nodesX(level - 1), cy = layout.nodesY(level - 1);
-    const std::size_t base = bounds.m_levelOffset[std::size_t(level)], childBase = bounds.m_levelOffset[std::size_t(level) - 1];
+    const std::size_t base = bounds.m_levelOffset[std::size_t(level)],
+                      childBase = bounds.m_levelOffset[std::size_t(level) - 1];
     for (int j = 0; j < ny; ++j) {
       for (int i = 0; i < nx; ++i) {
         float lo = std::numeric_limits<float>::infinity(), hi = -lo;

@@ -8,6 +8,7 @@
 #include <memory>
 #include <numeric>
 #include <random>
+#include <utility>
 
 namespace polder::terrain {
 namespace {
@@ -166,18 +167,22 @@ WatertightReport checkWatertight(const TriangleSoup& soup, int width, int height
   // are consecutive, which keeps this mostly cache-local, unlike one big edge hash.
   std::vector<std::uint32_t> first(unique.size() + 1, 0), target(3 * report.triangles);
   for (std::size_t t = 0; t < report.triangles; ++t) {
-    const std::uint32_t v[3] = {idOf[soup.indices[3 * t]], idOf[soup.indices[3 * t + 1]], idOf[soup.indices[3 * t + 2]]};
+    const std::uint32_t v[3] = {idOf[soup.indices[3 * t]], idOf[soup.indices[3 * t + 1]],
+                                idOf[soup.indices[3 * t + 2]]};
     const std::int64_t area = orient(unique[v[0]], unique[v[1]], unique[v[2]]);
     report.doubledArea += area;
-    if (area == 0) ++report.degenerate;
-    else if (area < 0) ++report.wrongWinding;
+    if (area == 0)
+      ++report.degenerate;
+    else if (area < 0)
+      ++report.wrongWinding;
     for (int e = 0; e < 3; ++e) ++first[v[e] + 1];
   }
   std::partial_sum(first.begin(), first.end(), first.begin());
   {
     std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
     for (std::size_t t = 0; t < report.triangles; ++t) {
-      const std::uint32_t v[3] = {idOf[soup.indices[3 * t]], idOf[soup.indices[3 * t + 1]], idOf[soup.indices[3 * t + 2]]};
+      const std::uint32_t v[3] = {idOf[soup.indices[3 * t]], idOf[soup.indices[3 * t + 1]],
+                                  idOf[soup.indices[3 * t + 2]]};
       for (int e = 0; e < 3; ++e) target[fill[v[e]]++] = v[(e + 1) % 3];
     }
   }
@@ -226,10 +231,14 @@ WatertightReport checkWatertight(const TriangleSoup& soup, int width, int height
         const GridPoint& p = unique[forward ? a : b];  // the single use runs p -> q
         const GridPoint& q = unique[forward ? b : a];
         int side = -1;
-        if (p.y == 0 && q.y == 0) side = q.x > p.x ? 0 : 4;
-        else if (p.x == width - 1 && q.x == width - 1) side = q.y > p.y ? 1 : 4;
-        else if (p.y == height - 1 && q.y == height - 1) side = q.x < p.x ? 2 : 4;
-        else if (p.x == 0 && q.x == 0) side = q.y < p.y ? 3 : 4;
+        if (p.y == 0 && q.y == 0)
+          side = q.x > p.x ? 0 : 4;
+        else if (p.x == width - 1 && q.x == width - 1)
+          side = q.y > p.y ? 1 : 4;
+        else if (p.y == height - 1 && q.y == height - 1)
+          side = q.x < p.x ? 2 : 4;
+        else if (p.x == 0 && q.x == 0)
+          side = q.y < p.y ? 3 : 4;
         if (side < 0) {
           ++report.openEdges;
         } else if (side == 4) {
@@ -292,10 +301,12 @@ WatertightReport checkWatertight(const TriangleSoup& soup, int width, int height
     // an edge (orientation 0) is skipped rather than guessed.
     constexpr std::int64_t kD = 1000003;
     std::mt19937_64 rng(options.seed);
-    std::uniform_int_distribution<std::int64_t> px(1, std::int64_t(width - 1) * kD - 1), py(1, std::int64_t(height - 1) * kD - 1);
+    std::uniform_int_distribution<std::int64_t> px(1, std::int64_t(width - 1) * kD - 1),
+        py(1, std::int64_t(height - 1) * kD - 1);
     for (std::size_t sample = 0; sample < options.samplePoints; ++sample) {
       const std::int64_t X = px(rng), Y = py(rng);
-      const int cellX = std::clamp(int(X / kD / bucket), 0, bx - 1), cellY = std::clamp(int(Y / kD / bucket), 0, by - 1);
+      const int cellX = std::clamp(int(X / kD / bucket), 0, bx - 1),
+                cellY = std::clamp(int(Y / kD / bucket), 0, by - 1);
       const std::size_t b = std::size_t(cellY) * bx + cellX;
       int inside = 0;
       bool onEdge = false;
@@ -307,7 +318,8 @@ WatertightReport checkWatertight(const TriangleSoup& soup, int width, int height
         for (int k = 0; k < 3; ++k) {
           const GridPoint& p = *v[k];
           const GridPoint& q = *v[(k + 1) % 3];
-          o[k] = (std::int64_t(q.x) - p.x) * (Y - std::int64_t(p.y) * kD) - (std::int64_t(q.y) - p.y) * (X - std::int64_t(p.x) * kD);
+          o[k] = (std::int64_t(q.x) - p.x) * (Y - std::int64_t(p.y) * kD) -
+                 (std::int64_t(q.y) - p.y) * (X - std::int64_t(p.x) * kD);
         }
         if (o[0] == 0 || o[1] == 0 || o[2] == 0) {
           const bool allSame = (o[0] >= 0 && o[1] >= 0 && o[2] >= 0) || (o[0] <= 0 && o[1] <= 0 && o[2] <= 0);
@@ -318,8 +330,10 @@ WatertightReport checkWatertight(const TriangleSoup& soup, int width, int height
       }
       if (onEdge) continue;
       ++report.samplesTested;
-      if (inside == 0) ++report.samplesUncovered;
-      else if (inside > 1) ++report.samplesOverlapped;
+      if (inside == 0)
+        ++report.samplesUncovered;
+      else if (inside > 1)
+        ++report.samplesOverlapped;
     }
   }
   return report;

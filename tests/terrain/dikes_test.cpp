@@ -13,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <random>
@@ -38,7 +39,8 @@ Heightfield makeField(int width, int height, std::uint64_t seed) {
   const double a = 0.02 + 0.05 * unit(rng), b = 0.02 + 0.05 * unit(rng), phase = 6.0 * unit(rng);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
-      double h = 300.0 + 120.0 * std::sin(a * x + phase) * std::cos(b * y) + 60.0 * std::abs(std::sin(0.013 * (x + 2 * y)));
+      double h =
+          300.0 + 120.0 * std::sin(a * x + phase) * std::cos(b * y) + 60.0 * std::abs(std::sin(0.013 * (x + 2 * y)));
       h += 25.0 * std::sin(0.3 * x - 0.2 * y) + 4.0 * unit(rng);
       if ((x / 17 + y / 23) % 5 == 0) h = std::floor(h / 20.0) * 20.0;  // terraces: flat spots and steps
       field.at(x, y) = float(h);
@@ -65,9 +67,15 @@ void cutFrom(const BlockLayout& layout, NodeId node, CutKind kind, std::mt19937_
       split = true;
     } else {
       switch (kind) {
-        case CutKind::Random: split = std::uniform_real_distribution<double>(0.0, 1.0)(rng) < 0.55; break;
-        case CutKind::Finest: split = true; break;
-        case CutKind::Coarsest: split = false; break;
+        case CutKind::Random:
+          split = std::uniform_real_distribution<double>(0.0, 1.0)(rng) < 0.55;
+          break;
+        case CutKind::Finest:
+          split = true;
+          break;
+        case CutKind::Coarsest:
+          split = false;
+          break;
         case CutKind::DeepPaths: {
           // Down to level 0 around a few points only: nodes many levels apart meet there.
           const SampleRect f = layout.footprint(node);
@@ -108,7 +116,8 @@ int maxLevelJump(const BlockLayout& layout, const std::vector<NodeId>& cut) {
   for (const NodeId& n : cut) {
     const int span = 1 << n.level;
     for (int y = int(n.by) * span; y < std::min((int(n.by) + 1) * span, by); ++y)
-      for (int x = int(n.bx) * span; x < std::min((int(n.bx) + 1) * span, bx); ++x) level[std::size_t(y) * bx + x] = n.level;
+      for (int x = int(n.bx) * span; x < std::min((int(n.bx) + 1) * span, bx); ++x)
+        level[std::size_t(y) * bx + x] = n.level;
   }
   int jump = 0;
   for (int y = 0; y < by; ++y) {
@@ -144,14 +153,22 @@ struct Blocks {
     std::uniform_int_distribution<int> pick(0, 4);
     const int choice = kind == LodKind::Full ? 0 : (kind == LodKind::Coarsest ? 1 : pick(rng));
     switch (choice) {
-      case 0: lod.extractThreshold(-1.0f, mesh, scratch); break;
-      case 1: lod.extractCount(0, mesh, scratch); break;
-      case 2: lod.extractThreshold(float(std::uniform_real_distribution<double>(0.0, 30.0)(rng)), mesh, scratch); break;
-      case 3: lod.extractCount(std::size_t(std::uniform_int_distribution<int>(2, 300)(rng)), mesh, scratch); break;
+      case 0:
+        lod.extractThreshold(-1.0f, mesh, scratch);
+        break;
+      case 1:
+        lod.extractCount(0, mesh, scratch);
+        break;
+      case 2:
+        lod.extractThreshold(float(std::uniform_real_distribution<double>(0.0, 30.0)(rng)), mesh, scratch);
+        break;
+      case 3:
+        lod.extractCount(std::size_t(std::uniform_int_distribution<int>(2, 300)(rng)), mesh, scratch);
+        break;
       default: {
         LodView view;
         view.camera = glm::dvec3(std::uniform_real_distribution<double>(-500.0, 1500.0)(rng),
-                                 std::uniform_real_distribution<double>(-500.0, 1500.0)(rng), 600.0) ;
+                                 std::uniform_real_distribution<double>(-500.0, 1500.0)(rng), 600.0);
         view.projectionConstant = 800.0;
         view.tolerancePx = std::uniform_real_distribution<double>(0.5, 8.0)(rng);
         lod.extractView(view, mesh, scratch);
@@ -232,15 +249,17 @@ double bruteForceError(const Heightfield& field, DikeVertex a, DikeVertex b, Dik
             const P u = poly[i], w = poly[(i + 1) % poly.size()];
             const double su = side(u), sw = side(w);
             if (su >= 0) next.push_back(u);
-            if ((su > 0 && sw < 0) || (su < 0 && sw > 0)) next.push_back(P{u.x + (w.x - u.x) * su / (su - sw), u.y + (w.y - u.y) * su / (su - sw)});
+            if ((su > 0 && sw < 0) || (su < 0 && sw > 0))
+              next.push_back(P{u.x + (w.x - u.x) * su / (su - sw), u.y + (w.y - u.y) * su / (su - sw)});
           }
           poly.swap(next);
         }
         if (poly.empty()) continue;
-        const auto surface = planeOf(s[0], field.at(int(s[0].x), int(s[0].y)), s[1], field.at(int(s[1].x), int(s[1].y)), s[2],
-                                     field.at(int(s[2].x), int(s[2].y)));
+        const auto surface = planeOf(s[0], field.at(int(s[0].x), int(s[0].y)), s[1], field.at(int(s[1].x), int(s[1].y)),
+                                     s[2], field.at(int(s[2].x), int(s[2].y)));
         for (const P& p : poly)
-          worst = std::max(worst, std::abs((surface[0] + surface[1] * p.x + surface[2] * p.y) - (drawn[0] + drawn[1] * p.x + drawn[2] * p.y)));
+          worst = std::max(worst, std::abs((surface[0] + surface[1] * p.x + surface[2] * p.y) -
+                                           (drawn[0] + drawn[1] * p.x + drawn[2] * p.y)));
       }
     }
   }
@@ -286,9 +305,9 @@ struct Case {
 TEST(Dikes, WatertightAndHonestOnRandomCutsAndLods) {
   // Odd sizes (edge blocks clipped), sizes one sample past a block, single blocks, and two
   // DEMs with root level 5 and 4 for neighbours 3 and more levels apart.
-  const Case cases[] = {{67, 67, 4},   {100, 61, 4}, {131, 97, 4}, {200, 150, 4}, {34, 34, 5},
-                        {97, 140, 5},  {163, 163, 5}, {250, 90, 5}, {66, 300, 4}, {35, 200, 5},
-                        {18, 18, 4},   {260, 260, 4}, {401, 333, 4}, {301, 529, 5}};
+  const Case cases[] = {{67, 67, 4},  {100, 61, 4},  {131, 97, 4},  {200, 150, 4}, {34, 34, 5},
+                        {97, 140, 5}, {163, 163, 5}, {250, 90, 5},  {66, 300, 4},  {35, 200, 5},
+                        {18, 18, 4},  {260, 260, 4}, {401, 333, 4}, {301, 529, 5}};
   std::mt19937_64 rng(20240611);
   int frames = 0, deepJumps = 0;
   ErrorStats stats;
@@ -310,9 +329,10 @@ TEST(Dikes, WatertightAndHonestOnRandomCutsAndLods) {
         const std::vector<NodeId> cut = makeCut(*layout, cutKind, rng);
         deepJumps += maxLevelJump(*layout, cut) >= 3;
         for (LodKind lodKind : lodKinds) {
-          const std::string what = std::to_string(c.width) + "x" + std::to_string(c.height) + " k" + std::to_string(c.k) +
-                                   " cut " + std::to_string(int(cutKind)) + "/" + std::to_string(r) + " lod " +
-                                   std::to_string(int(lodKind)) + " nodes " + std::to_string(cut.size());
+          const std::string what = std::to_string(c.width) + "x" + std::to_string(c.height) + " k" +
+                                   std::to_string(c.k) + " cut " + std::to_string(int(cutKind)) + "/" +
+                                   std::to_string(r) + " lod " + std::to_string(int(lodKind)) + " nodes " +
+                                   std::to_string(cut.size());
           buildFrame(*layout, cut, lods, lodKind, rng, frame, scratch);
           if (HasFatalFailure()) return;
           expectWatertight(*layout, frame, what);
@@ -331,7 +351,6 @@ TEST(Dikes, WatertightAndHonestOnRandomCutsAndLods) {
   RecordProperty("worstExactOverBound", std::to_string(stats.worstRatio));
 }
 
-
 // Level jumps far beyond the default block size: k = 1 and 2 give many levels on small DEMs.
 TEST(Dikes, WatertightWithNeighboursManyLevelsApart) {
   std::mt19937_64 rng(77);
@@ -349,7 +368,8 @@ TEST(Dikes, WatertightWithNeighboursManyLevelsApart) {
     for (int r = 0; r < 6; ++r) {
       const std::vector<NodeId> cut = makeCut(*layout, CutKind::DeepPaths, rng);
       bigJumps += maxLevelJump(*layout, cut) >= 5;
-      const std::string what = std::to_string(c.width) + "x" + std::to_string(c.height) + " k" + std::to_string(c.k) + " cut " + std::to_string(r);
+      const std::string what = std::to_string(c.width) + "x" + std::to_string(c.height) + " k" + std::to_string(c.k) +
+                               " cut " + std::to_string(r);
       buildFrame(*layout, cut, lods, LodKind::Mixed, rng, frame, scratch);
       if (HasFatalFailure()) return;
       expectWatertight(*layout, frame, what);
@@ -365,8 +385,8 @@ TEST(Dikes, SingleBlockDems) {
   std::mt19937_64 rng(5);
   DikeScratch scratch;
   FrameResult frame;
-  for (const Case& c : {Case{33, 33, 5}, Case{34, 33, 5}, Case{33, 34, 5}, Case{34, 34, 5}, Case{2, 2, 1}, Case{3, 2, 1},
-                        Case{4, 4, 1}, Case{17, 12, 4}}) {
+  for (const Case& c : {Case{33, 33, 5}, Case{34, 33, 5}, Case{33, 34, 5}, Case{34, 34, 5}, Case{2, 2, 1},
+                        Case{3, 2, 1}, Case{4, 4, 1}, Case{17, 12, 4}}) {
     const Heightfield field = makeField(c.width, c.height, rng());
     auto layout = BlockLayout::create(c.width, c.height, c.k);
     ASSERT_TRUE(layout.ok());
@@ -380,8 +400,10 @@ TEST(Dikes, SingleBlockDems) {
       if (HasFatalFailure()) return;
       expectWatertight(*layout, frame, what);
       const bool fills = c.width - 1 <= (1 << c.k) && c.height - 1 <= (1 << c.k);  // the interior is the DEM
-      if (fills) EXPECT_EQ(frame.dikes.triangleCount(), 0u) << what;
-      else EXPECT_GT(frame.dikes.triangleCount(), 0u) << what;
+      if (fills)
+        EXPECT_EQ(frame.dikes.triangleCount(), 0u) << what;
+      else
+        EXPECT_GT(frame.dikes.triangleCount(), 0u) << what;
     }
   }
 }
@@ -419,11 +441,13 @@ TEST(Dikes, NodesWithoutAMeshJoinTheirQuads) {
     }
     soup.addDikes(frame.dikes);
     const WatertightReport report = checkWatertight(soup, layout->width(), layout->height(), WatertightOptions{300, 1});
-    EXPECT_TRUE(report.watertight()) << "cut " << r << ": open " << report.openEdges << ", T-junctions " << report.tJunctions;
+    EXPECT_TRUE(report.watertight()) << "cut " << r << ": open " << report.openEdges << ", T-junctions "
+                                     << report.tJunctions;
   }
 }
 
-// Same cut and meshes as last frame: the output and the scratch keep their memory.
+// The same cut frame after frame (with new LODs every frame, so sizes change): the output and
+// the scratch keep their memory; and the bounds hold for the largest possible frame.
 TEST(Dikes, SteadyStateKeepsItsMemory) {
   std::mt19937_64 rng(13);
   const Heightfield field = makeField(300, 260, 4);
@@ -439,7 +463,8 @@ TEST(Dikes, SteadyStateKeepsItsMemory) {
   const auto* vertices = frame.dikes.vertices.data();
   const auto* indices = frame.dikes.indices.data();
   const auto* owners = frame.dikes.owners.data();
-  const std::size_t capacities[3] = {frame.dikes.vertices.capacity(), frame.dikes.indices.capacity(), frame.dikes.owners.capacity()};
+  const std::size_t capacities[3] = {frame.dikes.vertices.capacity(), frame.dikes.indices.capacity(),
+                                     frame.dikes.owners.capacity()};
   const std::size_t scratchBytes = scratch.capacityBytes();
   for (int f = 0; f < 5; ++f) {
     // Every frame a new LOD for every block: sizes change, capacities must not.

@@ -2,12 +2,13 @@
 // frame" step 3, "Terrain / Grid and dikes").
 //
 // Follows:
-// - R.-H. Chuang (莊榮宏) et al., "Level-of-Detail Modeling Technique for Virtual Reality (I)",
-//   NSC 89-2218-E-009-012, 2001, part B (../shared/seeds/002_d92600183c0e5cf1.txt): blocks
-//   with a one-cell dike between neighbours, re-triangulated every frame from the boundary
-//   vertices each block's current LOD kept, so that meshes of different resolution join
-//   without cracks. Here generalised to quadtree nodes of any level (dikes `stride` cells
-//   wide) and to neighbours that differ by any number of levels and LOD steps.
+// - J.-H. Chuang (莊榮宏), "Level-of-Detail Modeling Technique for Virtual Reality (I)", NSC
+//   89-2218-E-009-012 final report, National Chiao Tung University, 2001, part B (seed
+//   ../shared/seeds/002_d92600183c0e5cf1.txt): blocks with a dike between each pair of
+//   neighbours, triangulated every frame from the boundary vertices each block's current LOD
+//   kept, so that meshes of different resolution join without cracks. Here generalised to
+//   quadtree nodes of any level (dikes `stride` cells wide) and to neighbours that differ by
+//   any number of levels and LOD steps.
 //
 // The gap network. Interiors never touch (block_layout.hpp): east and north of every interior
 // lies its dike strip, `stride` cells wide (less where a footprint or a clipped interior meets
@@ -36,17 +37,20 @@
 //
 // Cost: linear in the kept boundary vertices, plus the junction polygons' ear clipping
 // (quadratic in a polygon's size; junctions have a handful of vertices except along a coarse
-// side with no vertex in a long range). The output and all working memory are caller storage
-// (DikeMesh, DikeScratch); after reserve() a frame allocates nothing.
+// side with no vertex in a long range): about 0.1 to 0.3 ms for 400 blocks of 33 x 33
+// samples at view-dependent LODs on one core. The output and all working memory are caller
+// storage (DikeMesh, DikeScratch); after reserve() a frame allocates nothing. Where both
+// sides keep every vertex (stride 1, full detail) a zipper cuts each cell along the same
+// diagonal as heightfield.hpp, so such dikes are the full-resolution surface itself.
 //
-// Errors (DESIGN.md "Errors are honest"). dikeTriangleErrors() scans the full-resolution
-// samples in every dike triangle for its exact vertical error. dikeErrorBound() is an
-// a-priori bound per quadtree node, independent of every block's LOD and of the neighbours'
-// levels. Each dike triangle has an owner (DikeMesh::owners): for a zipper triangle the
-// coarser of its two nodes, for a junction triangle the coarsest node around its junction
-// polygon. It lies in its owner's bound region (dikeBoundRegion), so its error is at most the
-// height range there: whatever the plane through three samples of the region, every sample of
-// the region is within that range of it. The bound must allow the worst a node's dikes may
+// Errors (DESIGN.md "Errors are honest"). dikeTriangleErrors() gives every dike triangle's
+// exact vertical error against the full-resolution surface. dikeErrorBound() is an a-priori
+// bound per quadtree node, independent of every block's LOD and of the neighbours' levels.
+// Each dike triangle has an owner (DikeMesh::owners): for a zipper triangle the coarser of
+// its two nodes, for a junction triangle the coarsest node around its junction polygon. It
+// lies in its owner's bound region (dikeBoundRegion), so its error is at most the height
+// range there: its plane interpolates three samples of the region, and the surface at any
+// point of the region interpolates samples of the region. The bound must allow the worst a node's dikes may
 // draw: a sliver between a fine side and a coarse side with only its corners kept deviates
 // from the surface by about slope x side length, so an LOD-independent bound is about a
 // range, not a curvature. See dikes.cpp ("Why the bound holds") for what is proved and what
@@ -152,10 +156,10 @@ class DikeScratch {
   struct Attachment {  // a zipper's range [xs, xe] on one member's clockwise boundary
     std::uint32_t node = 0;
     std::uint32_t xs = 0, xe = 0;
-    std::uint32_t side = 0;          // BlockEdge
-    std::uint32_t twin = 0;          // the other member's attachment, or none (the DEM border)
-    std::uint32_t rank = 0;          // position in its node's clockwise list
-    std::uint32_t borderXs = 0;      // DEM-border zipper: output vertices of the border's ends
+    std::uint32_t side = 0;      // BlockEdge
+    std::uint32_t twin = 0;      // the other member's attachment, or none (the DEM border)
+    std::uint32_t rank = 0;      // position in its node's clockwise list
+    std::uint32_t borderXs = 0;  // DEM-border zipper: output vertices of the border's ends
     std::uint32_t borderXe = 0;
     std::int32_t borderCoordinate = 0;  // DEM-border zipper: y (east) or x (north) of borderXe
   };
@@ -225,7 +229,9 @@ SampleRect dikeBoundRegion(const BlockLayout& layout, NodeId node);
 // A-priori bound (metres) on the exact vertical error of every dike triangle `node` owns:
 // max - min height over dikeBoundRegion(). Independent of every block's LOD and of the
 // neighbours' levels, so the selection can use it per node before a frame is built
-// (BlockQuadtreeOptions::dikeErrorBound). It also covers the samples a clipped interior
+// (BlockQuadtreeOptions::dikeErrorBound). The triangles it covers may lie up to one footprint
+// west or south of the node's own box: a screen-space test on this term should measure the
+// distance to the region, not to the node's footprint. It also covers the samples a clipped interior
 // leaves uncovered at the DEM's east and north edges: they lie in the node's dike and in
 // its region. Scans the region: O(4 * footprint samples); DikeErrorBounds gives every node's
 // bound at once.

@@ -61,29 +61,30 @@ struct WatertightOptions {
 
 struct WatertightReport {
   std::size_t triangles = 0;
-  std::size_t vertices = 0;          // distinct grid points used
-  std::size_t outsidePoints = 0;     // vertices outside [0, width-1] x [0, height-1]
-  std::size_t degenerate = 0;        // zero-area triangles
-  std::size_t wrongWinding = 0;      // clockwise seen from +z
-  std::size_t openEdges = 0;         // off the border, used by one triangle
-  std::size_t overSharedEdges = 0;   // used by more than two triangles
-  std::size_t flippedEdges = 0;      // shared by two triangles running the same way
-  std::size_t tJunctions = 0;        // (vertex, edge) pairs with the vertex strictly inside the edge
-  std::size_t borderErrors = 0;      // border edges running clockwise, or border stretches covered 0 or 2+ times
-  std::int64_t doubledArea = 0;      // sum of the triangles' signed doubled areas
+  std::size_t vertices = 0;              // distinct grid points used
+  std::size_t outsidePoints = 0;         // vertices outside [0, width-1] x [0, height-1]
+  std::size_t degenerate = 0;            // zero-area triangles
+  std::size_t wrongWinding = 0;          // clockwise seen from +z
+  std::size_t openEdges = 0;             // off the border, used by one triangle
+  std::size_t overSharedEdges = 0;       // used by more than two triangles
+  std::size_t flippedEdges = 0;          // shared by two triangles running the same way
+  std::size_t tJunctions = 0;            // (vertex, edge) pairs with the vertex strictly inside the edge
+  std::size_t borderErrors = 0;          // border edges running clockwise, or border stretches covered 0 or 2+ times
+  std::int64_t doubledArea = 0;          // sum of the triangles' signed doubled areas
   std::int64_t expectedDoubledArea = 0;  // 2 (width-1) (height-1)
-  bool coversExactly = false;        // the proof above went through
+  bool coversExactly = false;            // the proof above went through
   std::size_t samplesTested = 0;
-  std::size_t samplesUncovered = 0;  // sample points in no triangle
-  std::size_t samplesOverlapped = 0; // sample points in two or more
+  std::size_t samplesUncovered = 0;   // sample points in no triangle
+  std::size_t samplesOverlapped = 0;  // sample points in two or more
 
   bool watertight() const {
     return coversExactly && outsidePoints == 0 && degenerate == 0 && wrongWinding == 0 && openEdges == 0 &&
-           overSharedEdges == 0 && flippedEdges == 0 && tJunctions == 0 && borderErrors == 0 &&
-           samplesUncovered == 0 && samplesOverlapped == 0;
+           overSharedEdges == 0 && flippedEdges == 0 && tJunctions == 0 && borderErrors == 0 && samplesUncovered == 0 &&
+           samplesOverlapped == 0;
   }
 };
 
-WatertightReport checkWatertight(const TriangleSoup& soup, int width, int height, const WatertightOptions& options = {});
+WatertightReport checkWatertight(const TriangleSoup& soup, int width, int height,
+                                 const WatertightOptions& options = {});
 
 }  // namespace polder::terrain
