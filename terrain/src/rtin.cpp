@@ -27,6 +27,14 @@
 // of the samples plus, for such an edge, its cell centres (exactTriangleError). At stride 1 that
 // makes the half cells cut south-west to north-east (half of them, in a checkerboard) differ
 // from the surface by the gap between the cell's two cuts at its centre (cellCentreGap).
+//
+// Drawn half cells. So at stride 1 a cell whose two halves are both in the mesh (a diamond) is
+// drawn cut like the surface (walkTriangle): error 0, same four sides, so conformity, the side
+// lists and the neighbours are unchanged. A half cell whose hypotenuse neighbour is the coarser
+// triangle on the other side of the cell's diagonal (that triangle's midpoint, the cell's other
+// corner, is inactive) cannot be flipped without a T-junction there; it keeps the bintree's cut
+// and error, the gap, which that coarser triangle's error (its leg is the same diagonal, crossing
+// the same centre) already bounds, so it never exceeds what the extraction accepted.
 #include <polder/terrain/rtin.hpp>
 
 #include <algorithm>
@@ -404,7 +412,6 @@ Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {
 
   const double dx = m_vertexSpacingX, dy = m_vertexSpacingY;
   const bool fastFinest = s == 1;  // the finest triangles then hold samples at known places
-  double largestGap = 0.0;  // the short path's cellCentreGap maximum: the floor at stride 1
 
   // One triangle of vertex v = (i, j) at height zm: stores its exact error and widens v's
   // error, bounding sphere (cover2: squared radius of the triangle alone) and nested radius.
@@ -467,12 +474,10 @@ Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {
           const std::size_t v = std::size_t(j) * side + i;
           const double zb = hAt(i - ux, j - uy), zc = hAt(i + ux, j + uy);
           const double midpoint = std::fabs(zm - 0.5 * (zb + zc));
-          // Every cell cut south-west to north-east has its diagonal on such a leg, so the
-          // largest of these gaps is the floor.
+          // (The same value, rounded up alike, as leafError of that cell's bintree halves: a
+          // half cell left unflipped never exceeds the coarser triangle beside it.)
           auto gap = [&](int x, int y) {
-            const double g = cellCentreGap(hAt(x, y), hAt(x + 1, y), hAt(x, y + 1), hAt(x + 1, y + 1));
-            largestGap = std::max(largestGap, g);
-            return g;
+            return cellCentreGap(hAt(x, y), hAt(x + 1, y), hAt(x, y + 1), hAt(x + 1, y + 1));
           };
           double vertical = std::max(std::fabs(zb - zm), std::fabs(zc - zm));
           float err0 = 0.0f, err1 = 0.0f;  // sides as triangleSide: 1 for the apex north or east
@@ -575,17 +580,9 @@ Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {
   };
   walk(forcedOnly, maxLeaf);
   m_maxError = coarsest;
-  float floor = 0.0f;
-  if (!m_leafError.empty()) {
-    floor = *std::max_element(m_leafError.begin(), m_leafError.end());
-  } else if (!clippedBlock) {
-    floor = roundUp(largestGap);  // = the largest leafError, roundUp being monotone
-  } else {
-    for (int cj = 0; cj < cellsY; ++cj) {
-      for (int ci = (cj & 1); ci < cellsX; ci += 2) floor = std::max(floor, leafError(ci, cj, 0));
-    }
-  }
-  m_floorError = floor;
+  // The full-detail mesh's error: its half cells'. At stride 1 every cell is a diamond there,
+  // drawn cut like the surface: 0.
+  m_floorError = m_leafError.empty() ? 0.0f : *std::max_element(m_leafError.begin(), m_leafError.end());
   return {};
 }
 
@@ -593,8 +590,9 @@ Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {
 
 float BlockLod::leafError(int ci, int cj, int sideIndex) const {
   if (!m_leafError.empty()) return m_leafError[(std::size_t(cj) * m_footprint.cells() + ci) * 2 + sideIndex];
-  // Stride 1: the half cells are full-resolution cells, cut like the surface where the
-  // checkerboard cuts them north-west to south-east, the other way otherwise.
+  // Stride 1: the bintree's half cells are full-resolution cells, cut like the surface where
+  // the checkerboard cuts them north-west to south-east, the other way otherwise (drawn so only
+  // when the cell's other half is not drawn, see walkTriangle).
   if (((ci + cj) & 1) != 0) return 0.0f;
   return roundUp(cellCentreGap(m_height[vertexIndex(ci, cj)], m_height[vertexIndex(ci + 1, cj)],
                                m_height[vertexIndex(ci, cj + 1)], m_height[vertexIndex(ci + 1, cj + 1)]));
@@ -602,7 +600,11 @@ float BlockLod::leafError(int ci, int cj, int sideIndex) const {
 
 float BlockLod::storedTriangleError(int ax, int ay, int bx, int by, int cx, int cy) const {
   const int sideIndex = triangleSide(ax, ay, bx, by, cx, cy);
-  if (isHalfCell(bx, cx)) return leafError(std::min(bx, cx), std::min(by, cy), sideIndex);
+  if (isHalfCell(bx, cx)) {
+    // At stride 1 a half cell cut north-west to south-east is the surface itself.
+    if (m_leafError.empty() && (bx - cx) != (by - cy)) return 0.0f;
+    return leafError(std::min(bx, cx), std::min(by, cy), sideIndex);
+  }
   return m_triangleError[2 * vertexIndex((bx + cx) / 2, (by + cy) / 2) + sideIndex];
 }
 
@@ -614,7 +616,10 @@ float BlockLod::triangleError(GridVertex apex, GridVertex b, GridVertex c) const
     if (isHalfCell(b.i, c.i)) {
       const int ci = std::min(b.i, c.i), cj = std::min(b.j, c.j);
       const bool southWestToNorthEast = ((ci + cj) & 1) == 0;
-      const bool isDiagonal = southWestToNorthEast ? ((b.i - c.i) == (b.j - c.j)) : ((b.i - c.i) == -(b.j - c.j));
+      const bool cutSouthWestToNorthEast = (b.i - c.i) == (b.j - c.j);
+      // The bintree's cut, or at stride 1 the surface's (how a diamond's halves are drawn).
+      const bool isDiagonal = cutSouthWestToNorthEast == southWestToNorthEast ||
+                              (m_footprint.stride == 1 && !cutSouthWestToNorthEast);
       found = std::abs(b.j - c.j) == 1 && isDiagonal && (apex.i == ci || apex.i == ci + 1) &&
               (apex.j == cj || apex.j == cj + 1) && !(apex.i == b.i && apex.j == b.j) &&
               !(apex.i == c.i && apex.j == c.j);
@@ -650,7 +655,21 @@ void BlockLod::walkTriangle(int ax, int ay, int bx, int by, int cx, int cy, Acti
   const int mx2 = bx + cx, my2 = by + cy;  // doubled hypotenuse midpoint
   const int sideIndex = (2 * ax > mx2 || (2 * ax == mx2 && 2 * ay > my2)) ? 1 : 0;  // as triangleSide
   if (isHalfCell(bx, cx)) {
-    leaf(ax, ay, bx, by, cx, cy, leafError(std::min(bx, cx), std::min(by, cy), sideIndex));
+    const int ci = std::min(bx, cx), cj = std::min(by, cy);
+    // At stride 1 a half cell cut south-west to north-east, whose cell's other half is drawn too
+    // (its apex, the opposite corner, is active: with a conforming mesh, that half's parent is
+    // split), is drawn as the matching half of the surface's cut instead, error 0: apex p10 ->
+    // {p00, p10, p01}, apex p01 -> {p11, p01, p10}, both counter-clockwise. Otherwise its
+    // hypotenuse is a leg of the coarser triangle beside it and it keeps the bintree's cut.
+    if (m_footprint.stride == 1 && (bx - cx) == (by - cy) && active(bx + cx - ax, by + cy - ay)) {
+      if (ax > ci) {
+        leaf(ci, cj, ci + 1, cj, ci, cj + 1, 0.0f);
+      } else {
+        leaf(ci + 1, cj + 1, ci, cj + 1, ci + 1, cj, 0.0f);
+      }
+      return;
+    }
+    leaf(ax, ay, bx, by, cx, cy, leafError(ci, cj, sideIndex));
     return;
   }
   const int mx = mx2 / 2, my = my2 / 2;

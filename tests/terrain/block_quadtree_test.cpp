@@ -170,6 +170,9 @@ TEST(BlockQuadtree, DeltaBoundsEveryNodesBlockLod) {
       EXPECT_LE(lod->floorError(), data.floorDelta());
       EXPECT_EQ(data.dikeError, node.level == 1 ? 1000.0f : 0.5f * float(node.level));
       EXPECT_GE(data.delta(), data.dikeError);
+      if (node.level == 0) {
+        EXPECT_EQ(data.floorError, 0.0f);
+      }
     });
   }
 }

@@ -6,6 +6,7 @@
 #include <polder/terrain/rtin.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
@@ -260,6 +261,52 @@ void expectHonest(const Heightfield& field, const BlockMesh& mesh) {
   EXPECT_NEAR(worst, double(mesh.maxError), tolerance(worst)) << "reported error is not the mesh's";
 }
 
+// At stride 1, the half of cell (i, j) with apex `a` cut south-west to north-east (the bintree's
+// cut), as drawn cut like the surface: apex p10 -> {p00, p10, p01}, apex p01 -> {p11, p01, p10}.
+std::array<GridVertex, 3> surfaceHalf(GridVertex a, GridVertex b, GridVertex c) {
+  const std::uint16_t i = std::min(b.i, c.i), j = std::min(b.j, c.j);
+  const GridVertex p00{i, j}, p10{std::uint16_t(i + 1), j}, p01{i, std::uint16_t(j + 1)},
+      p11{std::uint16_t(i + 1), std::uint16_t(j + 1)};
+  if (a.i > i) return {p00, p10, p01};
+  return {p11, p01, p10};
+}
+
+// How the mesh cuts its half cells: a cell with both halves (a diamond) is cut like the surface
+// at stride 1 (north-west to south-east), like the bintree's checkerboard otherwise (south-west to
+// north-east where i + j is even); a lone half cell is always the bintree's. Returns how many
+// lone half cells at stride 1 keep the cut against the surface.
+int expectHalfCellCuts(const BlockMesh& mesh) {
+  std::map<std::pair<int, int>, std::vector<bool>> cells;  // cell -> its halves, cut south-west to north-east?
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    GridVertex v[3];
+    for (int c = 0; c < 3; ++c) v[c] = mesh.vertices[mesh.indices[3 * t + c]];
+    const int i0 = std::min({v[0].i, v[1].i, v[2].i}), i1 = std::max({v[0].i, v[1].i, v[2].i});
+    const int j0 = std::min({v[0].j, v[1].j, v[2].j}), j1 = std::max({v[0].j, v[1].j, v[2].j});
+    if (i1 - i0 != 1 || j1 - j0 != 1) continue;
+    bool hasP00 = false, hasP11 = false;
+    for (const GridVertex& g : v) {
+      hasP00 |= g.i == i0 && g.j == j0;
+      hasP11 |= g.i == i1 && g.j == j1;
+    }
+    cells[{i0, j0}].push_back(hasP00 && hasP11);
+  }
+  int lonelyAgainstSurface = 0;
+  for (const auto& [cell, cuts] : cells) {
+    const bool checkerboardSouthWestToNorthEast = ((cell.first + cell.second) & 1) == 0;
+    EXPECT_LE(cuts.size(), 2u);
+    if (cuts.size() == 2) {
+      EXPECT_EQ(cuts[0], cuts[1]) << "cell " << cell.first << "," << cell.second;
+    }
+    const bool expected = (cuts.size() == 2 && mesh.footprint.stride == 1) ? false : checkerboardSouthWestToNorthEast;
+    for (bool cut : cuts) {
+      EXPECT_EQ(cut, expected) << "cell " << cell.first << "," << cell.second << " with " << cuts.size()
+                               << " halves";
+    }
+    lonelyAgainstSurface += mesh.footprint.stride == 1 && cuts.size() == 1 && cuts[0];
+  }
+  return lonelyAgainstSurface;
+}
+
 // Walks the bintree (written here independently) and checks every triangle and vertex.
 void expectHierarchy(const Heightfield& field, const BlockLod& lod) {
   const BlockFootprint& fp = lod.footprint();
@@ -280,6 +327,16 @@ void expectHierarchy(const Heightfield& field, const BlockLod& lod) {
       ASSERT_LE(double(stored), brute + tolerance(brute)) << "triangle error not exact";
     }
     if (std::abs(b.i - c.i) == 1) {  // half cell: a leaf, whose error is the floor
+      if (fp.stride == 1 && (b.i - c.i) == (b.j - c.j)) {
+        // Cut against the surface: the full-detail mesh draws it as the surface's half, exact.
+        const std::array<GridVertex, 3> f = surfaceHalf(a, b, c);
+        EXPECT_EQ(lod.triangleError(f[0], f[1], f[2]), 0.0f);
+        EXPECT_EQ(lod.triangleError(f[0], f[2], f[1]), 0.0f);  // either winding
+        if (inside) {
+          ASSERT_LE(bruteError(field, fp, f[0], f[1], f[2]), tolerance(0.0)) << "the surface's half is not exact";
+        }
+        continue;
+      }
       if (inside) floor = std::max(floor, double(stored));
       continue;
     }
@@ -325,8 +382,11 @@ void expectHierarchy(const Heightfield& field, const BlockLod& lod) {
     }
   }
   EXPECT_EQ(checked, 2 * (n * n - 1));
-  // The full-detail mesh's error: its half cells' (not 0 at stride 1: half of them are cut along
-  // the other diagonal than the full-resolution surface).
+  // The full-detail mesh's error: its half cells' (0 at stride 1, where the halves cut against
+  // the surface are drawn as the surface's).
+  if (fp.stride == 1) {
+    EXPECT_EQ(lod.floorError(), 0.0f);
+  }
   EXPECT_GE(double(lod.floorError()), floor);
   EXPECT_NEAR(double(lod.floorError()), floor, tolerance(floor));
 }
@@ -386,12 +446,13 @@ TEST_P(RtinBlockTest, ThresholdExtractionIsConformingAndHonest) {
     SCOPED_TRACE("threshold " + std::to_string(threshold) + ", " + std::to_string(mesh.triangleCount()) + " triangles");
     expectConforming(mesh);
     expectHonest(block.field, mesh);
-    EXPECT_LE(mesh.maxError, std::max(threshold, block.lod.floorError()));
-    // Only half cells (the floor) may exceed the threshold.
+    expectHalfCellCuts(mesh);
+    // Only half cells (the floor) may exceed the threshold, and at stride 1 not even those.
+    EXPECT_LE(mesh.maxError, cfg.stride == 1 ? threshold : std::max(threshold, block.lod.floorError()));
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
       const GridVertex a = mesh.vertices[mesh.indices[3 * t]], b = mesh.vertices[mesh.indices[3 * t + 1]],
                        c = mesh.vertices[mesh.indices[3 * t + 2]];
-      if (std::abs(b.i - c.i) != 1) {
+      if (cfg.stride == 1 || std::abs(b.i - c.i) != 1) {
         ASSERT_LE(block.lod.triangleError(a, b, c), threshold) << "triangle " << t;
       }
     }
@@ -420,6 +481,7 @@ TEST_P(RtinBlockTest, CountExtractionMeetsTheTarget) {
     SCOPED_TRACE("target " + std::to_string(target) + ", got " + std::to_string(mesh.triangleCount()));
     expectConforming(mesh);
     expectHonest(block.field, mesh);
+    expectHalfCellCuts(mesh);
     const std::size_t expected = std::max<std::size_t>(2, std::min(target, full));
     EXPECT_LE(mesh.triangleCount(), expected);
     EXPECT_GE(mesh.triangleCount() + 1, expected);  // a split adds one or two triangles
@@ -465,6 +527,7 @@ TEST_P(RtinBlockTest, ViewExtractionKeepsProjectedErrorWithinTolerance) {
     SCOPED_TRACE("trial " + std::to_string(trial) + ", " + std::to_string(mesh.triangleCount()) + " triangles");
     expectConforming(mesh);
     expectHonest(block.field, mesh);
+    expectHalfCellCuts(mesh);
     refinedSomewhere += mesh.triangleCount() > 2;
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
       const GridVertex a = mesh.vertices[mesh.indices[3 * t]], b = mesh.vertices[mesh.indices[3 * t + 1]],
@@ -530,6 +593,113 @@ TEST(Rtin, TiltedPlaneIsTwoTriangles) {
   RtinScratch scratch;
   block.lod.extractThreshold(0.0f, mesh, scratch);
   EXPECT_EQ(mesh.triangleCount(), 2u);
+}
+
+// The triangles of a mesh, each rotated to start at its smallest vertex (winding kept).
+std::vector<std::array<int, 6>> triangleSet(const BlockMesh& mesh) {
+  std::vector<std::array<int, 6>> out;
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    GridVertex v[3];
+    for (int c = 0; c < 3; ++c) v[c] = mesh.vertices[mesh.indices[3 * t + c]];
+    int first = 0;
+    for (int c = 1; c < 3; ++c) {
+      if (std::make_pair(v[c].j, v[c].i) < std::make_pair(v[first].j, v[first].i)) first = c;
+    }
+    std::array<int, 6> tri;
+    for (int c = 0; c < 3; ++c) {
+      tri[2 * c] = v[(first + c) % 3].i;
+      tri[2 * c + 1] = v[(first + c) % 3].j;
+    }
+    out.push_back(tri);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// At stride 1 the full-detail mesh is the full-resolution triangulation of heightfield.hpp:
+// every cell cut from (x+1, y) to (x, y+1), nothing left over against the surface.
+TEST(Rtin, FullDetailAtStrideOneIsTheSurfaceTriangulation) {
+  struct Case {
+    Shape shape;
+    int k;
+    int cellsX, cellsY;  // < 2^k: clipped
+  };
+  for (const Case& cs : {Case{Shape::Random, 3, 8, 8}, Case{Shape::Fractal, 5, 32, 32}, Case{Shape::Sines, 4, 16, 16},
+                         Case{Shape::Random, 4, 11, 7}, Case{Shape::Fractal, 5, 19, 26}}) {
+    const int x0 = 2, y0 = 3;
+    const Heightfield field = makeField(cs.shape, x0 + cs.cellsX + 1, y0 + cs.cellsY + 1, 7u + cs.k);
+    auto built = BlockLod::build(field, BlockFootprint{x0, y0, cs.k, 1});
+    ASSERT_TRUE(built.ok()) << built.error().message;
+    const BlockLod& lod = *built;
+    SCOPED_TRACE(std::string(shapeName(cs.shape)) + " k " + std::to_string(cs.k) + ", " + std::to_string(cs.cellsX) +
+                 " x " + std::to_string(cs.cellsY) + " cells");
+    EXPECT_EQ(lod.floorError(), 0.0f);
+    std::vector<std::array<int, 6>> expected;
+    for (int y = 0; y < cs.cellsY; ++y) {
+      for (int x = 0; x < cs.cellsX; ++x) {
+        expected.push_back({x, y, x + 1, y, x, y + 1});
+        expected.push_back({x + 1, y, x + 1, y + 1, x, y + 1});  // {(x+1,y+1), (x,y+1), (x+1,y)} rotated
+      }
+    }
+    std::sort(expected.begin(), expected.end());
+    BlockMesh mesh;
+    RtinScratch scratch;
+    auto expectSurface = [&](const std::string& what) {
+      SCOPED_TRACE(what);
+      expectConforming(mesh);
+      expectHonest(field, mesh);
+      EXPECT_EQ(expectHalfCellCuts(mesh), 0);
+      EXPECT_EQ(triangleSet(mesh), expected);
+      EXPECT_EQ(mesh.maxError, 0.0f);
+      for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const GridVertex a = mesh.vertices[mesh.indices[3 * t]], b = mesh.vertices[mesh.indices[3 * t + 1]],
+                         c = mesh.vertices[mesh.indices[3 * t + 2]];
+        ASSERT_EQ(lod.triangleError(a, b, c), 0.0f) << "triangle " << t;
+      }
+    };
+    lod.extractThreshold(-1.0f, mesh, scratch);
+    expectSurface("threshold -1");
+    if (cs.shape == Shape::Random) {  // every vertex costs something: these refine fully too
+      lod.extractThreshold(0.0f, mesh, scratch);
+      expectSurface("threshold 0");
+      lod.extractCount(std::size_t(1) << 20, mesh, scratch);
+      expectSurface("count");
+      lod.extractView(LodView{glm::dvec3(30.0, 30.0, lod.maxHeight() + 5.0), 1000.0, 0.01, 1.0}, mesh, scratch);
+      expectSurface("view");
+    }
+  }
+}
+
+// A half cell whose cell's other half is not in the mesh (its hypotenuse is a leg of the coarser
+// triangle beside it) keeps the bintree's cut: flipping it would put a vertex on that triangle's
+// hypotenuse. Its error, the gap at the cell's centre, is within the threshold anyway.
+TEST(Rtin, LoneHalfCellsKeepTheBintreeCut) {
+  // One raised sample at (0, 1): vertex (0, 1) costs 2 m, vertex (1, 0) only the gap of cell
+  // (0, 0), 1 m; cell (0, 0) is cut south-west to north-east by the bintree.
+  Heightfield field(5, 5, 10.0, 10.0);
+  field.at(0, 1) = 2.0f;
+  auto built = BlockLod::build(field, BlockFootprint{0, 0, 2, 1});
+  ASSERT_TRUE(built.ok());
+  const BlockLod& lod = *built;
+  EXPECT_EQ(lod.vertexError(0, 1), 2.0f);
+  EXPECT_EQ(lod.vertexError(1, 0), 1.0f);
+  EXPECT_EQ(lod.floorError(), 0.0f);
+  BlockMesh mesh;
+  RtinScratch scratch;
+  lod.extractThreshold(1.5f, mesh, scratch);
+  expectConforming(mesh);
+  expectHonest(field, mesh);
+  EXPECT_EQ(expectHalfCellCuts(mesh), 1);
+  const std::vector<std::array<int, 6>> tris = triangleSet(mesh);
+  const std::array<int, 6> lone = {0, 0, 1, 1, 0, 1};  // apex (0, 1), the bintree's cut
+  EXPECT_TRUE(std::find(tris.begin(), tris.end(), lone) != tris.end());
+  EXPECT_EQ(lod.triangleError({0, 1}, {1, 1}, {0, 0}), 1.0f);
+  EXPECT_EQ(mesh.maxError, 1.0f);  // the lone half's gap, within the threshold
+  lod.extractThreshold(0.5f, mesh, scratch);  // now vertex (1, 0) too: the cell is a diamond
+  expectConforming(mesh);
+  expectHonest(field, mesh);
+  EXPECT_EQ(expectHalfCellCuts(mesh), 0);
+  EXPECT_LE(mesh.maxError, 0.5f);
 }
 
 // The full-resolution surface at sample coordinates (x, y), from heightfield.hpp's convention
@@ -618,6 +788,7 @@ TEST(Rtin, ReportedErrorsBoundTheTriangulatedSurfaceEverywhere) {
                    std::to_string(cs.stride) + (cs.clipped ? ", clipped" : "") + ", " + what + ", " +
                    std::to_string(mesh.triangleCount()) + " triangles");
       expectConforming(mesh);
+      expectHalfCellCuts(mesh);
       for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
         const GridVertex a = mesh.vertices[mesh.indices[3 * t]], b = mesh.vertices[mesh.indices[3 * t + 1]],
                          c = mesh.vertices[mesh.indices[3 * t + 2]];

@@ -29,14 +29,28 @@
 // vertex of the two triangulations' overlay: a full-resolution sample in the triangle (all
 // samples, not only the strided ones, edges included), or a cell centre on a triangle edge that
 // runs south-west to north-east (such an edge crosses each cell diagonal there; the surface is
-// the mean of the diagonal's ends), and both are scanned. So at stride 1 the finest triangles
-// (half cells) are not free either: the bintree cuts half of the cells (a checkerboard) along
-// the other diagonal than the surface, off by up to |h00 + h11 - h10 - h01| / 2 at the centre.
+// the mean of the diagonal's ends), and both are scanned.
+//
+// Half cells at stride 1. The bintree cuts half of the cells (a checkerboard) along the other
+// diagonal than the surface, south-west to north-east, off by |h00 + h11 - h10 - h01| / 2 at
+// the centre. Where both halves of such a cell are in a mesh (a diamond; always so in the
+// full-detail mesh) they are drawn cut like the surface instead, for the cell with corners
+// p00 = (i, j) and p11 = (i+1, j+1): the half with apex p10, {p00, p10, p11}, as {p00, p10, p01},
+// the half with apex p01, {p11, p01, p00}, as {p11, p01, p10}. Same cell, same sides, so the
+// mesh stays conforming, and their error is 0. A half cell whose cell's other half is not in
+// the mesh (its hypotenuse is then a leg of the coarser triangle beside it, whose midpoint,
+// the cell's other corner, is inactive) keeps the bintree's cut and its error, the gap; that
+// coarser triangle's leg crosses the same cell centre, so its error, and its midpoint's, is at
+// least the gap. So a mesh's triangles are the bintree's, but for those flipped halves; at a
+// stride above 1 nothing is flipped (a half cell is then a strided cell, not the surface's).
+//
 // A vertex's error is the largest error of the triangles it splits and of every vertex below
 // it, so errors only shrink going down the tree. Therefore any rule "active iff error >
 // threshold" (threshold monotone too) gives a conforming mesh (no T-junctions) in which every
 // triangle's exact error is at most its midpoint's error, except half cells, whose error is at
-// most floorError(). A vertex's radius bounds, in 3D, the triangles it splits (their drawn
+// most floorError() (0 at stride 1) or, at stride 1 when not flipped, at most the error of
+// the inactive vertex beside it (within the threshold too). A vertex's radius bounds, in 3D,
+// the triangles it splits (their drawn
 // planes and the true surface under them) and, nested, the spheres of every vertex below it,
 // which keeps the view-dependent test monotone.
 //
@@ -81,9 +95,13 @@ inline constexpr int kRtinMaxK = 8;
 //   error(v) > tolerancePx * max(|camera - v| - radius(v), nearM) / projectionConstant.
 // Every triangle of the result then projects to at most tolerancePx pixels of vertical error,
 // K * error / max(distance to the triangle, nearM) <= tolerancePx, except the finest triangles
-// (half cells), whose error is at most BlockLod::floorError(): at a stride above 1 a finer
-// quadtree level removes it; at stride 1 it is the cells the bintree cuts along the other
-// diagonal than the surface (see "Errors" above), which no level removes.
+// (half cells). At a stride above 1 their error is at most BlockLod::floorError(), which a finer
+// quadtree level removes. At stride 1 a diamond's halves are drawn cut like the surface (error
+// 0); a lone half cell keeps the bintree's cut (see "Half cells at stride 1" above), its error
+// the gap at its cell's centre, which lies on the inactive coarser triangle beside it: bounded
+// by that triangle's midpoint error, so its projected error at that centre is within the
+// tolerance (the midpoint's sphere holds the centre), measured at the centre's distance rather
+// than the half cell's own, possibly nearer, one.
 struct LodView {
   glm::dvec3 camera{0.0};           // camera position minus BlockLod::origin(), metres
   double projectionConstant = 1.0;  // K = viewport height / (2 tan(fovy / 2)), Camera::projectionConstant()
@@ -143,9 +161,9 @@ class BlockLod {
   // The block's node error for the quadtree's delta: the exact error of its coarsest mesh,
   // the two root triangles (for a clipped block, the mesh of its forced splits).
   float maxError() const { return m_maxError; }
-  // The exact error of the full-detail mesh (its half cells): what the stride leaves, and the
-  // cells the bintree cuts along the other diagonal than the surface. Not 0 at stride 1 either
-  // unless each of those cells is planar (|h00 + h11 - h10 - h01| / 2 = 0).
+  // The exact error of the full-detail mesh (its half cells): what the stride leaves. 0 at
+  // stride 1, where the full-detail mesh is the surface's own triangulation (every cell a
+  // diamond, drawn cut like the surface).
   float floorError() const { return m_floorError; }
   // Height range of the full-resolution samples the mesh covers (for node bounding boxes).
   float minHeight() const { return m_minHeight; }
@@ -165,6 +183,8 @@ class BlockLod {
   float vertexError(int i, int j) const { return m_error[vertexIndex(i, j)]; }
   float vertexRadius(int i, int j) const { return m_radius[vertexIndex(i, j)]; }
   // Exact error of the bintree triangle (apex; b, c), in either winding. Asserts that it is one.
+  // At stride 1 a half cell cut like the surface (a flipped half, see above) counts as one too,
+  // with error 0; the bintree's own south-west to north-east halves keep theirs (the gap).
   float triangleError(GridVertex apex, GridVertex b, GridVertex c) const;
 
   std::size_t memoryBytes() const;
