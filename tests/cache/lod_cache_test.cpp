@@ -23,6 +23,8 @@
 
 #include <gtest/gtest.h>
 
+#include "geometry_reference.hpp"
+
 // Heap allocations in this program, counted by replacing the global operator new: the
 // replacement can only live at global scope, so this test-only counter does too.
 namespace {
@@ -169,27 +171,7 @@ double bruteError(const Heightfield& field, const terrain::BlockFootprint& fp, G
   return err;
 }
 
-// Closest distance from p to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
-double pointTriangleDistance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
-  const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return glm::length(p - a);
-  const glm::dvec3 bp = p - b;
-  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return glm::length(p - b);
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return glm::length(p - (a + ab * (d1 / (d1 - d3))));
-  const glm::dvec3 cp = p - c;
-  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return glm::length(p - c);
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return glm::length(p - (a + ac * (d2 / (d2 - d6))));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return glm::length(p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))));
-  const double denom = 1.0 / (va + vb + vc);
-  return glm::length(p - (a + ab * (vb * denom) + ac * (vc * denom)));
-}
+using test::pointTriangleDistance;
 
 // The largest K * e(T) / max(dist(camera, T), near) / tau over the mesh's triangles, leaving
 // out the half cells of a strided block (no extraction can refine them). <= 1: within tau.

@@ -18,6 +18,8 @@
 
 #include <gtest/gtest.h>
 
+#include "geometry_reference.hpp"
+
 namespace polder::terrain {
 namespace {
 
@@ -137,27 +139,7 @@ glm::dvec3 worldRelative(const Heightfield& field, const BlockFootprint& fp, lon
   return {(x - fp.x0) * field.spacingX, (y - fp.y0) * field.spacingY, double(field.at(int(x), int(y)))};
 }
 
-// Closest distance from p to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
-double pointTriangleDistance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
-  const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return glm::length(p - a);
-  const glm::dvec3 bp = p - b;
-  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return glm::length(p - b);
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return glm::length(p - (a + ab * (d1 / (d1 - d3))));
-  const glm::dvec3 cp = p - c;
-  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return glm::length(p - c);
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return glm::length(p - (a + ac * (d2 / (d2 - d6))));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return glm::length(p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))));
-  const double denom = 1.0 / (va + vb + vc);
-  return glm::length(p - (a + ab * (vb * denom) + ac * (vc * denom)));
-}
+using test::pointTriangleDistance;
 
 // Conformity: the triangles are counter-clockwise, tile [0, cellsX] x [0, cellsY] exactly once,
 // share every interior edge with exactly one other triangle, have no vertex inside another's

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-namespace polder::terrain::test {
+namespace polder::test {
 
 inline double metresPerDegreeLatitude(double phi) {
   const double r = phi * M_PI / 180.0;
@@ -16,4 +16,4 @@ inline double metresPerDegreeLongitude(double phi) {
   return 111412.84 * std::cos(r) - 93.5 * std::cos(3 * r) + 0.118 * std::cos(5 * r);
 }
 
-}  // namespace polder::terrain::test
+}  // namespace polder::test

@@ -2,6 +2,8 @@
 // libtiff (OpenImageIO 2.4 cannot write GeoTIFF tags), and raw bytes.
 #pragma once
 
+#include "../wgs84_reference.hpp"
+
 #include <OpenImageIO/imageio.h>
 #include <tiffio.h>
 
@@ -136,14 +138,5 @@ std::string storeSamples(const std::vector<T>& values, bool bigEndian) {
   return bytes;
 }
 
-// Independent reference for degree lengths: the usual WGS84 series.
-inline double metresPerDegreeLatitude(double phi) {
-  const double r = phi * M_PI / 180.0;
-  return 111132.954 - 559.822 * std::cos(2 * r) + 1.175 * std::cos(4 * r);
-}
-inline double metresPerDegreeLongitude(double phi) {
-  const double r = phi * M_PI / 180.0;
-  return 111412.84 * std::cos(r) - 93.5 * std::cos(3 * r) + 0.118 * std::cos(5 * r);
-}
 
 }  // namespace polder::test
