@@ -120,6 +120,7 @@ struct TerrainEngine::Impl {
     allocation.resize(demands.size());
     lod::allocateTriangles(demands, blockBudget, options.alpha, allocation, allocationScratch);
     for (std::size_t i = 0; i < cut.size(); ++i) {
+      if (cut[i].visible) continue;
       const terrain::BlockLod* lod = lodFor(cut[i].node);
       cutMeshes[i] = lod ? &meshes.acquireCount(cut[i].node, *lod, 0) : nullptr;
     }
