@@ -8,19 +8,18 @@
 
 #include <polder/terrain/raw.hpp>
 
+#include "sample_bytes.hpp"
+
 namespace polder::terrain {
 namespace {
 
 // Values stored north row first, in the byte order asked for.
 template <class T>
 std::vector<std::byte> store(const std::vector<T>& values, bool bigEndian) {
-  std::vector<std::byte> bytes(values.size() * sizeof(T));
-  std::memcpy(bytes.data(), values.data(), bytes.size());
-  const std::uint16_t probe = 1;
-  const bool littleMachine = *reinterpret_cast<const std::uint8_t*>(&probe) == 1;
-  if (bigEndian == littleMachine)
-    for (std::size_t i = 0; i < bytes.size(); i += sizeof(T)) std::reverse(&bytes[i], &bytes[i] + sizeof(T));
-  return bytes;
+  const std::string bytes = test::storeSamples(values, bigEndian);
+  std::vector<std::byte> out(bytes.size());
+  std::memcpy(out.data(), bytes.data(), bytes.size());
+  return out;
 }
 
 RawLayout layout(int width, int height, SampleType type, bool bigEndian) { return RawLayout{width, height, type, bigEndian}; }

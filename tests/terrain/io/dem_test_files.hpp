@@ -3,6 +3,7 @@
 #pragma once
 
 #include "../wgs84_reference.hpp"
+#include "sample_bytes.hpp"
 
 #include <OpenImageIO/imageio.h>
 #include <tiffio.h>
@@ -127,16 +128,6 @@ inline std::string readBytes(const std::filesystem::path& path) {
 }
 
 // Stores values in the byte order asked for.
-template <class T>
-std::string storeSamples(const std::vector<T>& values, bool bigEndian) {
-  std::string bytes(values.size() * sizeof(T), '\0');
-  std::memcpy(bytes.data(), values.data(), bytes.size());
-  const std::uint16_t probe = 1;
-  const bool littleMachine = *reinterpret_cast<const std::uint8_t*>(&probe) == 1;
-  if (bigEndian == littleMachine)
-    for (std::size_t i = 0; i < bytes.size(); i += sizeof(T)) std::reverse(&bytes[i], &bytes[i] + sizeof(T));
-  return bytes;
-}
 
 
 }  // namespace polder::test
