@@ -26,6 +26,12 @@ double Camera::projectionConstant() const {
   return double(heightPx) / (2.0 * std::tan(0.5 * fovYDeg * kDegToRad));
 }
 
+double Camera::errorProjectionConstant() const {
+  const double halfHeight = std::tan(0.5 * fovYDeg * kDegToRad);
+  const double halfDiagonalSquared = halfHeight * halfHeight * (1.0 + aspect() * aspect());
+  return projectionConstant() * (1.0 + halfDiagonalSquared);
+}
+
 glm::dmat4 Camera::viewRotation() const {
   const glm::dvec3 f = forward(), r = right(), u = up();
   glm::dmat4 view(1.0);

@@ -271,7 +271,7 @@ SelectionStats BlockQuadtree::select(const Camera& camera, const SelectionOption
 
   const Frustum frustum = Frustum::fromCamera(camera);
   const glm::dvec3 eye = camera.position;
-  const double projection = camera.projectionConstant();
+  const double projection = camera.errorProjectionConstant();
   const double tau = options.tolerancePx;
   const bool floorMeasure = options.errorMeasure == NodeErrorMeasure::Floor;
 

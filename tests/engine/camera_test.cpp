@@ -57,3 +57,34 @@ TEST(Camera, ProjectionConstantMatchesFieldOfView) {
 
 }  // namespace
 }  // namespace polder
+
+namespace polder {
+namespace {
+
+// A vertical segment anywhere in the view never covers more than
+// errorProjectionConstant() * length / distance pixels.
+TEST(Camera, ErrorProjectionConstantBoundsVerticalErrorsEverywhereInTheView) {
+  Camera camera;
+  camera.widthPx = 320;
+  camera.heightPx = 240;
+  camera.fovYDeg = 60.0;
+  camera.yawDeg = 30.0;
+  camera.pitchDeg = -35.0;
+  const glm::dmat4 viewProjection = camera.projection() * camera.viewRotation();
+  auto toPixels = [&](const glm::dvec3& p) {
+    const glm::dvec4 clip = viewProjection * glm::dvec4(p, 1.0);
+    return glm::dvec2((clip.x / clip.w * 0.5 + 0.5) * camera.widthPx, (0.5 - clip.y / clip.w * 0.5) * camera.heightPx);
+  };
+  double worstRatio = 0.0;
+  for (int py = 0; py <= 240; py += 8)
+    for (int px = 0; px <= 320; px += 8) {
+      const glm::dvec3 p = camera.pixelRay(px, py) * 1000.0;
+      const double pixels = glm::length(toPixels(p + glm::dvec3(0, 0, 0.01)) - toPixels(p));
+      worstRatio = std::max(worstRatio, pixels / (0.01 / glm::length(p)));
+    }
+  EXPECT_LE(worstRatio, camera.errorProjectionConstant() * (1.0 + 1e-3));
+  EXPECT_GT(worstRatio, camera.projectionConstant() * 1.2);  // the centre-of-screen K alone is not enough
+}
+
+}  // namespace
+}  // namespace polder

@@ -304,7 +304,7 @@ TEST(BlockQuadtree, SelectionTilesTheDemCullsConservativelyAndMeetsTau) {
       EXPECT_LE(cut.size(), tree.selectionBound());
       EXPECT_EQ(stats.visibleNodes + stats.culledNodes, cut.size());
 
-      const double K = camera.projectionConstant();
+      const double K = camera.errorProjectionConstant();
       for (const SelectedNode& s : cut) {
         const Aabb world = tree.box(s.node);
         EXPECT_EQ(s.distanceM, distanceToOrigin(Aabb{world.minCorner - camera.position, world.maxCorner - camera.position}));

@@ -96,6 +96,39 @@ TEST(TerrainEngine, BudgetModeEndsEachFrameBetweenNinetyPercentAndTheBudget) {
   }
 }
 
+// The blocks' meshes, reused or rebuilt, hold the measured screen-space error within tau.
+// (Dike triangles are left out: their error is not yet bounded by tau.)
+TEST(TerrainEngine, BlockMeshesStayWithinTauOnScreen) {
+  auto field = generated(257, 13);
+  auto truth = query::QueryScene::create(*field);
+  ASSERT_TRUE(truth.ok());
+  TerrainEngineOptions options;
+  options.tauPx = 1.0;
+  auto engine = TerrainEngine::create(field, options);
+  ASSERT_TRUE(engine.ok());
+  std::mt19937 random(21);
+  double worst = 0.0;
+  std::size_t measured = 0;
+  for (int view = 0; view < 12; ++view) {
+    Camera camera = randomCamera(random, *field);
+    camera.position.z = 900.0 + 1500.0 * (view % 4);  // from low over the hills to high above
+    camera.pitchDeg = -20.0 - 5.0 * (view % 5);
+    for (int step = 0; step < 3; ++step) {  // small moves: the cache reuses meshes
+      camera.position.x += 40.0;
+      (void)(*engine)->update(camera);
+    }
+    const TerrainFrameMeshes meshes = (*engine)->frameMeshes();
+    const std::vector<MeshData> blocks(meshes.blocks.begin(), meshes.blocks.end());
+    auto lod = query::QueryScene::createFromMeshes(blocks);
+    ASSERT_TRUE(lod.ok());
+    const query::ScreenError error = query::measureScreenError(**lod, **truth, camera);
+    worst = std::max(worst, error.maxPx);
+    measured += error.pixelsMeasured;
+  }
+  EXPECT_GT(measured, 100000u);
+  EXPECT_LE(worst, options.tauPx * (1.0 + 1e-6));
+}
+
 TEST(TerrainEngine, SteadyStateFramesDoNotAllocate) {
   auto field = generated(257, 2);
   auto engine = TerrainEngine::create(field, {});

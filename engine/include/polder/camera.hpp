@@ -31,6 +31,13 @@ struct Camera {
   // about K * e / d pixels.
   double projectionConstant() const;
 
+  // The constant to turn a vertical world error into a bound on its size in pixels anywhere
+  // in the view: K * (1 + T^2), T the tangent of the half-diagonal field of view. Off the
+  // view axis a vertical segment e at distance d projects through depth (d cos theta) and
+  // tilts in the image, covering up to K e / (d cos^2 theta) pixels; K e / d alone holds
+  // only at the centre of the screen.
+  double errorProjectionConstant() const;
+
   // Rotation-only view matrix (camera at the origin): world offsets relative to the
   // camera position go in, eye space comes out.
   glm::dmat4 viewRotation() const;

@@ -89,8 +89,9 @@ struct TerrainEngine::Impl {
     return &lods.insert(key, std::move(*built), bytes);
   }
 
+  // K here bounds a vertical error's pixels anywhere in the view (Camera::errorProjectionConstant).
   terrain::LodView viewFor(const terrain::BlockLod& lod, const Camera& camera) const {
-    return terrain::LodView{camera.position - lod.origin(), camera.projectionConstant(), options.tauPx,
+    return terrain::LodView{camera.position - lod.origin(), camera.errorProjectionConstant(), options.tauPx,
                             std::max(camera.nearM, 1e-3)};
   }
 

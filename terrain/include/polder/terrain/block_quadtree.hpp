@@ -45,7 +45,9 @@
 // Selection (select()). Depth-first from the root. A node whose box is outside the frustum is
 // output as culled (visible = false) at that level and not descended. A visible node is
 // refined while K * delta > tau * distance (distance from the camera to the node's box, 0
-// inside it; delta = 0 is exact and never refined); level-0 nodes are taken when visible.
+// inside it; delta = 0 is exact and never refined; K = Camera::errorProjectionConstant(), which
+// bounds a vertical error's size in pixels anywhere in the view, not only at its centre);
+// level-0 nodes are taken when visible.
 // The output is a CUT: culled and taken nodes together tile the DEM exactly (no overlap, no
 // gap), which the dikes need to close every gap between neighbouring blocks. Callers that
 // only draw skip visible == false. Order: depth first, SW, SE, NW, NE within each parent.
