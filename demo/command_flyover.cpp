@@ -38,7 +38,8 @@ struct FlyoverArguments {
 };
 
 struct Flight {
-  terrain::Dem dem;
+  std::shared_ptr<const terrain::Heightfield> field;  // shared with the LOD engine, not copied
+  terrain::DemInfo info;
   std::unique_ptr<query::QueryScene> scene;
   CameraPath path;
   TerrainStyle style;
@@ -48,21 +49,21 @@ struct Flight {
 // meshes uploaded once (--full-res).
 class FlightDrawing {
  public:
-  static Result<FlightDrawing> create(render::Renderer& renderer, const terrain::Heightfield& field,
+  static Result<FlightDrawing> create(render::Renderer& renderer, const std::shared_ptr<const terrain::Heightfield>& field,
                                       const FlyoverArguments& arguments) {
     FlightDrawing drawing;
     auto debug = parseDebugView(arguments.debug);
     if (!debug) return debug.error();
     drawing.m_debug = *debug;
     if (arguments.fullResolution) {
-      auto meshes = TerrainMeshes::upload(renderer, field);
+      auto meshes = TerrainMeshes::upload(renderer, *field);
       if (!meshes) return meshes.error();
       drawing.m_fullResolution = std::move(*meshes);
       return drawing;
     }
     TerrainEngineOptions options;
     options.tauPx = arguments.tauPx;
-    auto engine = TerrainEngine::create(std::make_shared<terrain::Heightfield>(field), options);
+    auto engine = TerrainEngine::create(field, options);
     if (!engine) return engine.error();
     drawing.m_engine = std::move(*engine);
     return drawing;
@@ -95,8 +96,9 @@ Result<Flight> prepareFlight(const FlyoverArguments& arguments) {
   const query::QueryScene& surface = **scene;
   auto ground = [&surface](double x, double y) { return surface.height(x, y).value_or(0.0); };
   CameraPath path = makeFlyoverLoop(dem->field.extentX(), dem->field.extentY(), ground, arguments.flight);
-  TerrainStyle style = makeTerrainStyle(*dem);
-  return Flight{std::move(*dem), std::move(*scene), std::move(path), style};
+  const TerrainStyle style = makeTerrainStyle(*dem);
+  return Flight{std::make_shared<const terrain::Heightfield>(std::move(dem->field)), std::move(dem->info),
+                std::move(*scene), std::move(path), style};
 }
 
 Camera cameraAt(const CameraPose& pose, const Camera& lens) {
@@ -117,7 +119,7 @@ int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) 
   auto headless = createHeadlessRenderer(lens.widthPx, lens.heightPx);
   if (!headless) return reportError(headless.error());
   render::Renderer& renderer = *headless->renderer;
-  auto drawing = FlightDrawing::create(renderer, flight.dem.field, arguments);
+  auto drawing = FlightDrawing::create(renderer, flight.field, arguments);
   if (!drawing) return reportError(drawing.error());
   TerrainStyle style = flight.style;
   style.wireframe = drawing->debug() == DebugView::Wire;
@@ -144,8 +146,8 @@ int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) 
   }
   progress.finish();
   std::printf("flew %.0f s of a %.0f s loop over %s (%d x %d samples), %zu triangles per frame %s\n",
-              (arguments.frames - 1) * step, flight.path.durationS(), flight.dem.info.path.c_str(), flight.dem.field.width,
-              flight.dem.field.height, triangles / std::size_t(arguments.frames),
+              (arguments.frames - 1) * step, flight.path.durationS(), flight.info.path.c_str(), flight.field->width,
+              flight.field->height, triangles / std::size_t(arguments.frames),
               arguments.fullResolution ? "at full resolution" : ("within " + std::to_string(arguments.tauPx) + " px").c_str());
   std::printf("wrote %d frames (%dx%d) to %s/frame_0000.png ... frame_%04d.png; %.0f ms per frame to draw\n",
               arguments.frames, lens.widthPx, lens.heightPx, arguments.out.c_str(), arguments.frames - 1,
@@ -166,7 +168,7 @@ int runWindow(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
   if (!window) return reportError(window.error());
   auto renderer = render::Renderer::create(&platform::GlfwWindow::getProcAddress);
   if (!renderer) return reportError(renderer.error());
-  auto drawing = FlightDrawing::create(**renderer, flight.dem.field, arguments);
+  auto drawing = FlightDrawing::create(**renderer, flight.field, arguments);
   if (!drawing) return reportError(drawing.error());
   TerrainStyle style = flight.style;
   style.wireframe = drawing->debug() == DebugView::Wire;
@@ -240,7 +242,7 @@ int runFlyover(const FlyoverArguments& arguments) {
   lens.heightPx = size->second;
   lens.fovYDeg = arguments.fovDeg;
   lens.position = flight->path.at(0.0).position;
-  fitClipPlanes(lens, flight->dem.field);
+  fitClipPlanes(lens, *flight->field);
   if (arguments.headless) return runHeadless(arguments, *flight, lens);
 #if POLDER_HAVE_GLFW
   return runWindow(arguments, *flight, lens);

@@ -61,7 +61,8 @@ int runRender(RenderArguments arguments) {
     if (arguments.tauPx) {
       TerrainEngineOptions options;
       options.tauPx = *arguments.tauPx;
-      auto engine = TerrainEngine::create(std::make_shared<terrain::Heightfield>(dem->field), options);
+      // The engine keeps the heights; nothing below reads dem->field again.
+      auto engine = TerrainEngine::create(std::make_shared<terrain::Heightfield>(std::move(dem->field)), options);
       if (!engine) return reportError(engine.error());
       const TerrainFrame& frame = (*engine)->update(*camera);
       renderer.beginFrame(*camera, style);

@@ -97,12 +97,20 @@ double LodCache::reuseRate() const {
 
 // ---- acquire ----------------------------------------------------------------------------
 
-const BlockMesh& LodCache::acquire(NodeId node, const BlockLod& lod, const LodView& view, LodOutcome* outcome) {
+std::uint32_t LodCache::lookUp(NodeId node, bool& cached) {
   ++m_counters.lookups;
-  std::uint32_t index = findSlot(node);
+  const std::uint32_t index = findSlot(node);
+  cached = index != kNone;
+  if (!cached) return takeSlot(node);
+  touch(index);
+  return index;
+}
+
+const BlockMesh& LodCache::acquire(NodeId node, const BlockLod& lod, const LodView& view, LodOutcome* outcome) {
+  bool cached = false;
+  const std::uint32_t index = lookUp(node, cached);
   LodOutcome result = LodOutcome::Built;
-  if (index != kNone) {
-    touch(index);
+  if (cached) {
     Slot& slot = *m_slots[index];
     if (!m_options.enabled) {
       result = LodOutcome::RebuiltUncached;
@@ -118,8 +126,6 @@ const BlockMesh& LodCache::acquire(NodeId node, const BlockLod& lod, const LodVi
         case LodVerdict::NeedlesslyFine: result = LodOutcome::RebuiltNeedlesslyFine; break;
       }
     }
-  } else {
-    index = takeSlot(node);
   }
   Slot& slot = *m_slots[index];
   if (m_options.enabled) {
@@ -142,11 +148,10 @@ const BlockMesh& LodCache::acquire(NodeId node, const BlockLod& lod, const LodVi
 
 const BlockMesh& LodCache::acquireCount(NodeId node, const BlockLod& lod, std::size_t targetTriangles,
                                         LodOutcome* outcome) {
-  ++m_counters.lookups;
-  std::uint32_t index = findSlot(node);
+  bool cached = false;
+  const std::uint32_t index = lookUp(node, cached);
   LodOutcome result = LodOutcome::Built;
-  if (index != kNone) {
-    touch(index);
+  if (cached) {
     Slot& slot = *m_slots[index];
     if (!m_options.enabled) {
       result = LodOutcome::RebuiltUncached;
@@ -158,8 +163,6 @@ const BlockMesh& LodCache::acquireCount(NodeId node, const BlockLod& lod, std::s
     } else {
       result = LodOutcome::RebuiltChanged;
     }
-  } else {
-    index = takeSlot(node);
   }
   Slot& slot = *m_slots[index];
   lod.extractCount(targetTriangles, slot.mesh, m_scratch);

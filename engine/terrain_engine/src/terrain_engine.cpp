@@ -28,8 +28,6 @@ std::uint64_t nodeKey(const terrain::NodeId& node) {
   return (std::uint64_t(node.level) << 56) | (std::uint64_t(node.bx) << 28) | std::uint64_t(node.by);
 }
 
-}  // namespace
-
 cache::LodCacheOptions cacheOptions(const TerrainEngineOptions& options) {
   cache::LodCacheOptions cache;
   cache.budgetBytes = options.cacheBytes;
@@ -39,6 +37,8 @@ cache::LodCacheOptions cacheOptions(const TerrainEngineOptions& options) {
   cache.countHysteresis = 0.02;
   return cache;
 }
+
+}  // namespace
 
 struct TerrainEngine::Impl {
   std::shared_ptr<const terrain::Heightfield> field;
@@ -103,28 +103,31 @@ struct TerrainEngine::Impl {
     }
   }
 
-  // Budget mode: the allocator splits the blocks' share of the budget over the visible
-  // blocks by projected area (ASLOD, seed 000 section 3); culled blocks take their coarsest
-  // mesh, which only their sides (for the dikes) need.
-  void extractForBudget(const Camera& camera, std::uint64_t blockBudget) {
+  // Budget mode, once per frame: the visible blocks' weights (projected area of their boxes)
+  // and the coarsest meshes of the culled nodes, which only their sides (for the dikes) need.
+  void prepareBudget(const Camera& camera) {
     const lod::AreaView areaView = lod::makeAreaView(camera);
     demands.clear();
     visibleInCut.clear();
     const auto maxTriangles = std::uint32_t(terrain::blockMeshTriangleBound(layout.k()));
     for (std::size_t i = 0; i < cut.size(); ++i) {
-      if (!cut[i].visible) continue;
+      if (!cut[i].visible) {
+        const terrain::BlockLod* lod = lodFor(cut[i].node);
+        cutMeshes[i] = lod ? &meshes.acquireCount(cut[i].node, *lod, 0) : nullptr;
+        continue;
+      }
       const Aabb box = quadtree.box(cut[i].node);
       const double area = lod::visibleAreaPx(lod::orientedBoxFromAabb(box.minCorner, box.maxCorner), areaView);
       demands.push_back(lod::RegionDemand{std::max(area, 1e-9), 2, maxTriangles});
       visibleInCut.push_back(i);
     }
     allocation.resize(demands.size());
+  }
+
+  // Budget mode, per attempt: the allocator splits the blocks' share of the budget over the
+  // visible blocks (ASLOD, seed 000 section 3) and each extracts its best mesh for its share.
+  void extractForBudget(std::uint64_t blockBudget) {
     lod::allocateTriangles(demands, blockBudget, options.alpha, allocation, allocationScratch);
-    for (std::size_t i = 0; i < cut.size(); ++i) {
-      if (cut[i].visible) continue;
-      const terrain::BlockLod* lod = lodFor(cut[i].node);
-      cutMeshes[i] = lod ? &meshes.acquireCount(cut[i].node, *lod, 0) : nullptr;
-    }
     for (std::size_t v = 0; v < visibleInCut.size(); ++v) {
       const std::size_t i = visibleInCut[v];
       const terrain::BlockLod* lod = lodFor(cut[i].node);
@@ -168,8 +171,8 @@ const TerrainFrame& TerrainEngine::update(const Camera& camera) {
   const cache::LodCacheCounters before = s.meshes.counters();
 
   // 1. Select: the cut of the block quadtree for this view. A node's error here is what it
-  //    cannot refine (its stride's floor and its dikes): the view-dependent extraction below
-  //    holds everything else within tau.
+  //    cannot refine (its stride's floor): the view-dependent extraction below holds
+  //    everything else within tau.
   auto start = Clock::now();
   terrain::SelectionOptions selection;
   selection.tolerancePx = s.options.mode == LodMode::PixelError ? s.options.tauPx : 1.0;
@@ -188,11 +191,12 @@ const TerrainFrame& TerrainEngine::update(const Camera& camera) {
     dikesMs = millisecondsSince(dikesStart);
   } else {
     // The dikes count inside the budget: give the blocks what last frame's dikes left, then
-    // correct once if this frame's dikes came out larger or smaller.
+    // correct (up to three times) while the frame misses 0.95P..P.
     const std::uint64_t budget = s.options.budgetTriangles;
     std::uint64_t blockBudget = budget > s.lastDikeTriangles ? budget - s.lastDikeTriangles : budget / 2;
+    s.prepareBudget(camera);
     for (int attempt = 0; attempt < 4; ++attempt) {
-      s.extractForBudget(camera, blockBudget);
+      s.extractForBudget(blockBudget);
       const auto dikesStart = Clock::now();
       s.dikes.stitch(s.cut, s.cutMeshes);
       dikesMs += millisecondsSince(dikesStart);

@@ -139,6 +139,9 @@ class LodCache {
   static constexpr std::uint32_t kNone = 0xffffffffu;  // no slot
 
   std::uint32_t findSlot(terrain::NodeId node) const;
+  // Counts the lookup; the node's slot, marked most recently used (cached = true), or a
+  // fresh slot for it.
+  std::uint32_t lookUp(terrain::NodeId node, bool& cached);
   std::uint32_t takeSlot(terrain::NodeId node);
   void indexInsert(std::uint32_t slot);
   void indexErase(std::uint32_t slot);
