@@ -56,6 +56,9 @@ struct PassResult {
   int framesMeasured = 0;
   int framesChecked = 0;
   std::size_t openEdges = 0, tJunctions = 0;
+  double dikeBoundMaxPx = 0.0;            // the dike check's largest bound over the frames
+  int dikeFramesOverTau = 0;              // frames the check left a dike triangle over tau
+  std::size_t dikeTrianglesOverTauMax = 0;
 };
 
 Result<CameraPath> makePath(const BenchArguments& arguments, const terrain::Heightfield& field,
@@ -108,6 +111,9 @@ PassResult runPass(TerrainEngine& engine, const CameraPath& path, const Camera& 
     result.lookups += stats.cacheLookups;
     result.hits += stats.cacheHits;
     result.rebuilds += stats.cacheRebuilds;
+    result.dikeBoundMaxPx = std::max(result.dikeBoundMaxPx, stats.dikeErrorPx);
+    result.dikeFramesOverTau += stats.dikeTrianglesOverTau > 0;
+    result.dikeTrianglesOverTauMax = std::max(result.dikeTrianglesOverTauMax, stats.dikeTrianglesOverTau);
 
     const bool measure = truth && arguments.measureEvery > 0 && frameIndex % arguments.measureEvery == 0;
     if (headless || measure) {
@@ -291,6 +297,10 @@ int runBench(BenchArguments arguments) {
        {{"tau", arguments.tauPx}, {"max", cached.errorMax}, {"p99", cached.errorP99}, {"frames_measured", cached.framesMeasured}}},
       {"watertight",
        {{"frames_checked", cached.framesChecked}, {"open_edges", cached.openEdges}, {"t_junctions", cached.tJunctions}}},
+      {"dike_check",
+       {{"bound_px_max", cached.dikeBoundMaxPx},
+        {"frames_over_tau", cached.dikeFramesOverTau},
+        {"triangles_over_tau_max", cached.dikeTrianglesOverTauMax}}},
       {"memory", {{"peak_rss_mb", peakRssMb()}}},
   };
   if (uncached) {
@@ -325,6 +335,9 @@ int runBench(BenchArguments arguments) {
               cached.errorMax, cached.errorP99, cached.framesMeasured, arguments.tauPx);
   std::printf("%-34s %zu open edges, %zu T-junctions over %d frames\n", "watertight", cached.openEdges,
               cached.tJunctions, cached.framesChecked);
+  if (arguments.mode != "budget")
+    std::printf("%-34s bound max %.3f px; %d of %d frames left dike triangles over tau (at most %zu)\n", "dike check",
+                cached.dikeBoundMaxPx, cached.dikeFramesOverTau, arguments.frames, cached.dikeTrianglesOverTauMax);
   if (uncached)
     std::printf("%-34s lod %.1f%% faster, total %.1f%% faster, triangles x%.3f\n", "cache vs no cache",
                 100.0 * report["compare_cache"]["lod_ms_saved_frac"].get<double>(),

@@ -58,6 +58,8 @@ struct LodCache::Slot {
   std::size_t countTarget = 0;  // acquireCount: the target t0 ...
   std::size_t countLow = 0;     // ... and the least target that gives the same mesh
   LodSummary summary;           // acquire: the reuse test's summary
+  terrain::BoundaryPins pins;   // acquire: side vertices the mesh must keep (pin())
+  bool pinsChanged = false;     // pins were added since the mesh was built
 
   BlockMesh mesh;
 
@@ -115,7 +117,10 @@ const BlockMesh& LodCache::acquire(NodeId node, const BlockLod& lod, const LodVi
     if (!m_options.enabled) {
       result = LodOutcome::RebuiltUncached;
     } else if (slot.built != BuiltFor::View || !slot.sameBlock(lod)) {
+      if (!slot.sameBlock(lod)) slot.pins.clear();  // pins were for the old data
       result = LodOutcome::RebuiltChanged;
+    } else if (slot.pinsChanged) {
+      result = LodOutcome::RebuiltPinned;
     } else {
       switch (testLodReuse(slot.summary, view, m_options.reuse)) {
         case LodVerdict::Reuse:
@@ -123,21 +128,28 @@ const BlockMesh& LodCache::acquire(NodeId node, const BlockLod& lod, const LodVi
           if (outcome) *outcome = LodOutcome::Reused;
           return slot.mesh;
         case LodVerdict::TooCoarse: result = LodOutcome::RebuiltTooCoarse; break;
-        case LodVerdict::NeedlesslyFine: result = LodOutcome::RebuiltNeedlesslyFine; break;
+        case LodVerdict::NeedlesslyFine:
+          // The camera moved away: the pins were for a nearer view. The frame's dike check
+          // pins again what the new view still needs.
+          slot.pins.clear();
+          result = LodOutcome::RebuiltNeedlesslyFine;
+          break;
       }
     }
   }
   Slot& slot = *m_slots[index];
+  slot.pinsChanged = false;
+  const terrain::BoundaryPins* pins = slot.pins.any() ? &slot.pins : nullptr;
   if (m_options.enabled) {
     // Built a little finer than tau asks (headroom), so the reuse test has slack to spend;
     // the summary vouches for tau itself.
     LodView build = view;
     build.tolerancePx = view.tolerancePx / (1.0 + m_options.headroom);
-    lod.extractView(build, slot.mesh, m_scratch);
+    lod.extractView(build, slot.mesh, m_scratch, pins);
     summarizeLod(lod, view, slot.mesh, slot.summary);
     slot.built = BuiltFor::View;
   } else {
-    lod.extractView(view, slot.mesh, m_scratch);  // the no-cache baseline: extraction only
+    lod.extractView(view, slot.mesh, m_scratch, pins);  // the no-cache baseline: extraction only
     slot.built = BuiltFor::Uncached;
   }
   slot.record(lod);
@@ -190,6 +202,7 @@ void LodCache::finishBuild(std::uint32_t index, LodOutcome outcome) {
     case LodOutcome::RebuiltTooCoarse: ++m_counters.tooCoarse; break;
     case LodOutcome::RebuiltNeedlesslyFine: ++m_counters.needlesslyFine; break;
     case LodOutcome::RebuiltChanged: ++m_counters.changed; break;
+    case LodOutcome::RebuiltPinned: ++m_counters.pinned; break;
     case LodOutcome::RebuiltUncached: ++m_counters.uncached; break;
     case LodOutcome::Reused: assert(false && "LodCache::finishBuild: a reuse is not a build"); break;
   }
@@ -208,6 +221,20 @@ bool LodCache::invalidate(NodeId node) {
   if (index == kNone) return false;
   drop(index, false);
   return true;
+}
+
+bool LodCache::pin(NodeId node, terrain::BlockEdge side, int from, int to) {
+  const std::uint32_t index = findSlot(node);
+  if (index == kNone) return false;
+  Slot& slot = *m_slots[index];
+  if (!slot.pins.pin(side, from, to)) return false;
+  slot.pinsChanged = true;
+  return true;
+}
+
+const terrain::BoundaryPins* LodCache::pins(NodeId node) const {
+  const std::uint32_t index = findSlot(node);
+  return index == kNone ? nullptr : &m_slots[index]->pins;
 }
 
 void LodCache::clear() {
@@ -248,6 +275,8 @@ std::uint32_t LodCache::takeSlot(NodeId node) {
   slot.node = node;
   slot.used = true;
   slot.built = BuiltFor::Uncached;
+  slot.pins.clear();
+  slot.pinsChanged = false;
   slot.bytes = meshBytes(slot.mesh);
   m_bytes += slot.bytes;
   ++m_size;

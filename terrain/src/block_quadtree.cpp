@@ -275,6 +275,16 @@ SelectionStats BlockQuadtree::select(const Camera& camera, const SelectionOption
   const double tau = options.tolerancePx;
   const bool floorMeasure = options.errorMeasure == NodeErrorMeasure::Floor;
 
+  // Node is a forced split or one of its ancestors.
+  auto forced = [&](const NodeId& node) {
+    for (const NodeId& f : options.forcedSplits) {
+      if (f.level == 0 || node.level < f.level) continue;
+      const int up = node.level - f.level;
+      if ((f.bx >> up) == node.bx && (f.by >> up) == node.by) return true;
+    }
+    return false;
+  };
+
   auto& stack = scratch.m_stack;
   stack.clear();
   stack.push_back(SelectionScratch::Entry{m_layout.root(), FrustumTest::Intersecting, false});
@@ -290,7 +300,7 @@ SelectionStats BlockQuadtree::select(const Camera& camera, const SelectionOption
     if (test == FrustumTest::Outside) {
       // Culled nodes stay in the cut for the dikes, which need every node drawable at its
       // stride: an edge node that is not (infinite error) gives way to its children.
-      if (node.level > 0 && !std::isfinite(m_nodes[nodeIndex(node)].delta())) {
+      if (node.level > 0 && (!std::isfinite(m_nodes[nodeIndex(node)].delta()) || forced(node))) {
         for (int quadrant = 3; quadrant >= 0; --quadrant) {
           const NodeId child = node.child(quadrant);
           if (m_layout.exists(child)) stack.push_back(SelectionScratch::Entry{child, FrustumTest::Outside, true});
@@ -306,7 +316,7 @@ SelectionStats BlockQuadtree::select(const Camera& camera, const SelectionOption
     // distance 0 (camera in the box) refines any node with an error and keeps exact ones.
     const NodeInfo& data = m_nodes[nodeIndex(node)];
     const double error = floorMeasure ? data.floorDelta() : data.delta();
-    bool refine = node.level > 0 && error > 0.0 && projection * error > tau * distance;
+    bool refine = node.level > 0 && ((error > 0.0 && projection * error > tau * distance) || forced(node));
 
     // Children, with their frustum test; a parent inside the frustum has children inside.
     SelectionScratch::Entry children[4];

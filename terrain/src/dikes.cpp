@@ -855,8 +855,14 @@ struct DikeBuilder {
           orient(c.x, c.y, a.x, a.y, v.x, v.y) >= 0)
         return;  // a vertex in the closed triangle: cutting here would make a T-junction
     }
-    const std::int64_t dx = c.x - a.x, dy = c.y - a.y;
-    e.diagonal2 = dx * dx + dy * dy;
+    e.diagonal2 = diagonalRank(c.x - a.x, c.y - a.y);
+  }
+
+  // Orders diagonals by length; of two equally long ones, the one running north-west to
+  // south-east first, the direction heightfield.hpp cuts its cells: a junction of one cell
+  // (where full-detail sides meet at a corner) is then cut like the surface, error 0.
+  static std::int64_t diagonalRank(std::int64_t dx, std::int64_t dy) {
+    return 2 * (dx * dx + dy * dy) + (dx * dy > 0 ? 1 : 0);
   }
 
   // Triangulates the walked polygon (counter-clockwise), shortest valid diagonal first.
@@ -889,12 +895,11 @@ struct DikeBuilder {
       // on it); the shorter of two valid ones keeps triangles local.
       const bool ac = o(0, 1, 2) > 0 && o(0, 2, 3) > 0, bd = o(1, 2, 3) > 0 && o(1, 3, 0) > 0;
       if (!ac && !bd) return internal("a junction quadrilateral with no diagonal");
-      auto length2 = [&](std::uint32_t a, std::uint32_t b) {
-        const std::int64_t dx = std::int64_t(point(poly[a]).x) - point(poly[b]).x,
-                           dy = std::int64_t(point(poly[a]).y) - point(poly[b]).y;
-        return dx * dx + dy * dy;
+      auto rank = [&](std::uint32_t a, std::uint32_t b) {
+        return diagonalRank(std::int64_t(point(poly[a]).x) - point(poly[b]).x,
+                            std::int64_t(point(poly[a]).y) - point(poly[b]).y);
       };
-      if (ac && (!bd || length2(0, 2) <= length2(1, 3))) {
+      if (ac && (!bd || rank(0, 2) <= rank(1, 3))) {
         emit(0, 1, 2);
         emit(0, 2, 3);
       } else {
@@ -977,64 +982,67 @@ Status buildDikes(const BlockLayout& layout, std::span<const DikeBlock> blocks, 
 
 // ---- errors ----------------------------------------------------------------------------------
 
+float dikeTriangleError(const Heightfield& field, const DikeVertex& a, const DikeVertex& b, const DikeVertex& c) {
+  const DikeVertex* v[3] = {&a, &b, &c};
+  double z[3];
+  for (int k = 0; k < 3; ++k) {
+    assert(v[k]->x >= 0 && v[k]->x < field.width && v[k]->y >= 0 && v[k]->y < field.height &&
+           "dikeTriangleError: a vertex outside the field");
+    z[k] = double(field.at(v[k]->x, v[k]->y));
+  }
+  // Plane z = c0 + gx x + gy y through the three vertices.
+  const double e1x = v[1]->x - v[0]->x, e1y = v[1]->y - v[0]->y, e2x = v[2]->x - v[0]->x, e2y = v[2]->y - v[0]->y;
+  const double det = e1x * e2y - e1y * e2x;
+  if (det == 0.0) return 0.0f;
+  const double dz1 = z[1] - z[0], dz2 = z[2] - z[0];
+  const double gx = (dz1 * e2y - dz2 * e1y) / det, gy = (e1x * dz2 - e2x * dz1) / det;
+  const double c0 = z[0] - gx * v[0]->x - gy * v[0]->y;
+  const int yMin = std::min({v[0]->y, v[1]->y, v[2]->y}), yMax = std::max({v[0]->y, v[1]->y, v[2]->y});
+  const double sign = det > 0 ? 1.0 : -1.0;  // half-planes of a clockwise triangle flip
+  double err = 0.0;
+  for (int y = yMin; y <= yMax; ++y) {
+    // The closed triangle's row: the intersection of its three edges' half-planes
+    // (A x + B >= 0 per edge, exact in integers).
+    std::int64_t lo = std::numeric_limits<std::int64_t>::min(), hi = std::numeric_limits<std::int64_t>::max();
+    bool empty = false;
+    for (int e = 0; e < 3 && !empty; ++e) {
+      const DikeVertex& p = *v[e];
+      const DikeVertex& q = *v[(e + 1) % 3];
+      std::int64_t ea = -(std::int64_t(q.y) - p.y);
+      std::int64_t eb = (std::int64_t(q.x) - p.x) * (std::int64_t(y) - p.y) + (std::int64_t(q.y) - p.y) * p.x;
+      if (sign < 0) {
+        ea = -ea;
+        eb = -eb;
+      }
+      if (ea > 0)
+        lo = std::max(lo, ceilDiv(-eb, ea));
+      else if (ea < 0)
+        hi = std::min(hi, floorDiv(eb, -ea));
+      else if (eb < 0)
+        empty = true;
+    }
+    if (empty || lo > hi) continue;
+    const int x0 = int(std::max<std::int64_t>(lo, 0)), x1 = int(std::min<std::int64_t>(hi, field.width - 1));
+    const float* row = field.heights.data() + std::size_t(y) * std::size_t(field.width);
+    const double base = c0 + gy * y;
+    for (int x = x0; x <= x1; ++x) err = std::max(err, std::fabs(double(row[x]) - (base + gx * x)));
+  }
+  // The surface is piecewise linear too, so the difference is largest at a vertex of the
+  // two triangulations' overlay: a sample in the triangle (above) or a point where a
+  // triangle edge crosses a cell edge (x or y integer) or a cell diagonal (x + y integer,
+  // heightfield.hpp's cut from (x+1, y) to (x, y+1)).
+  for (int e = 0; e < 3; ++e) err = std::max(err, edgeCrossingError(field, *v[e], *v[(e + 1) % 3], c0, gx, gy));
+  return roundUp(err);
+}
+
 float dikeTriangleErrors(const Heightfield& field, const DikeMesh& dikes, std::vector<float>* perTriangle) {
   assert(field.heights.size() == field.sampleCount() && "dikeTriangleErrors: heights do not match width * height");
   const std::size_t count = dikes.triangleCount();
   if (perTriangle) perTriangle->resize(count);
   float worst = 0.0f;
   for (std::size_t t = 0; t < count; ++t) {
-    const DikeVertex* v[3] = {&dikes.vertices[dikes.indices[3 * t]], &dikes.vertices[dikes.indices[3 * t + 1]],
-                              &dikes.vertices[dikes.indices[3 * t + 2]]};
-    double z[3];
-    for (int c = 0; c < 3; ++c) {
-      assert(v[c]->x >= 0 && v[c]->x < field.width && v[c]->y >= 0 && v[c]->y < field.height &&
-             "dikeTriangleErrors: a vertex outside the field");
-      z[c] = double(field.at(v[c]->x, v[c]->y));
-    }
-    // Plane z = c0 + gx x + gy y through the three vertices.
-    const double e1x = v[1]->x - v[0]->x, e1y = v[1]->y - v[0]->y, e2x = v[2]->x - v[0]->x, e2y = v[2]->y - v[0]->y;
-    const double det = e1x * e2y - e1y * e2x;
-    double err = 0.0;
-    if (det != 0.0) {
-      const double dz1 = z[1] - z[0], dz2 = z[2] - z[0];
-      const double gx = (dz1 * e2y - dz2 * e1y) / det, gy = (e1x * dz2 - e2x * dz1) / det;
-      const double c0 = z[0] - gx * v[0]->x - gy * v[0]->y;
-      const int yMin = std::min({v[0]->y, v[1]->y, v[2]->y}), yMax = std::max({v[0]->y, v[1]->y, v[2]->y});
-      const double sign = det > 0 ? 1.0 : -1.0;  // half-planes of a clockwise triangle flip
-      for (int y = yMin; y <= yMax; ++y) {
-        // The closed triangle's row: the intersection of its three edges' half-planes
-        // (A x + B >= 0 per edge, exact in integers).
-        std::int64_t lo = std::numeric_limits<std::int64_t>::min(), hi = std::numeric_limits<std::int64_t>::max();
-        bool empty = false;
-        for (int e = 0; e < 3 && !empty; ++e) {
-          const DikeVertex& p = *v[e];
-          const DikeVertex& q = *v[(e + 1) % 3];
-          std::int64_t a = -(std::int64_t(q.y) - p.y);
-          std::int64_t b = (std::int64_t(q.x) - p.x) * (std::int64_t(y) - p.y) + (std::int64_t(q.y) - p.y) * p.x;
-          if (sign < 0) {
-            a = -a;
-            b = -b;
-          }
-          if (a > 0)
-            lo = std::max(lo, ceilDiv(-b, a));
-          else if (a < 0)
-            hi = std::min(hi, floorDiv(b, -a));
-          else if (b < 0)
-            empty = true;
-        }
-        if (empty || lo > hi) continue;
-        const int x0 = int(std::max<std::int64_t>(lo, 0)), x1 = int(std::min<std::int64_t>(hi, field.width - 1));
-        const float* row = field.heights.data() + std::size_t(y) * std::size_t(field.width);
-        const double base = c0 + gy * y;
-        for (int x = x0; x <= x1; ++x) err = std::max(err, std::fabs(double(row[x]) - (base + gx * x)));
-      }
-      // The surface is piecewise linear too, so the difference is largest at a vertex of the
-      // two triangulations' overlay: a sample in the triangle (above) or a point where a
-      // triangle edge crosses a cell edge (x or y integer) or a cell diagonal (x + y integer,
-      // heightfield.hpp's cut from (x+1, y) to (x, y+1)).
-      for (int e = 0; e < 3; ++e) err = std::max(err, edgeCrossingError(field, *v[e], *v[(e + 1) % 3], c0, gx, gy));
-    }
-    const float e = roundUp(err);
+    const float e = dikeTriangleError(field, dikes.vertices[dikes.indices[3 * t]], dikes.vertices[dikes.indices[3 * t + 1]],
+                                      dikes.vertices[dikes.indices[3 * t + 2]]);
     if (perTriangle) (*perTriangle)[t] = e;
     worst = std::max(worst, e);
   }

@@ -738,15 +738,49 @@ void BlockLod::extractThreshold(float maxError, BlockMesh& out, RtinScratch& scr
   emit(active, out, scratch);
 }
 
-void BlockLod::extractView(const LodView& view, BlockMesh& out, RtinScratch& scratch) const {
+void BlockLod::markPinned(const BoundaryPins& pins, RtinScratch& scratch) const {
+  const int n = m_footprint.cells(), side = n + 1;
+  const std::size_t vertexCount = std::size_t(side) * std::size_t(side);
+  scratch.prepare(vertexCount);
+  std::uint8_t* marked = scratch.m_state.data();
+  std::fill(marked, marked + vertexCount, std::uint8_t(0));
+  std::vector<std::uint32_t>& stack = scratch.m_queue;
+  stack.clear();
+  auto mark = [&](int i, int j) {
+    const std::size_t v = std::size_t(j) * side + i;
+    if (marked[v] != 0) return;
+    marked[v] = 1;
+    stack.push_back(std::uint32_t(v));
+  };
+  for (int p = 0; p <= n; ++p) {
+    if (p <= m_cellsX && pins.pinned(BlockEdge::South, p)) mark(p, 0);
+    if (p <= m_cellsX && pins.pinned(BlockEdge::North, p)) mark(p, m_cellsY);
+    if (p <= m_cellsY && pins.pinned(BlockEdge::West, p)) mark(0, p);
+    if (p <= m_cellsY && pins.pinned(BlockEdge::East, p)) mark(m_cellsX, p);
+  }
+  // A vertex is in a mesh only with both triangles it splits, i.e. with their parents split:
+  // their parents' midpoints are these triangles' apexes.
+  while (!stack.empty()) {
+    const std::uint32_t v = stack.back();
+    stack.pop_back();
+    Tri tris[2];
+    const int count = splitTriangles(int(v % side), int(v / side), n, tris);
+    for (int t = 0; t < count; ++t) mark(tris[t].ax, tris[t].ay);
+  }
+}
+
+void BlockLod::extractView(const LodView& view, BlockMesh& out, RtinScratch& scratch, const BoundaryPins* pins) const {
   assert(view.projectionConstant > 0.0 && "BlockLod::extractView: projectionConstant must be positive");
   assert(view.tolerancePx >= 0.0 && view.nearM >= 0.0 && "BlockLod::extractView: negative tolerance or near");
   const int side = m_footprint.verticesPerSide();
   const double k = view.projectionConstant, tau = view.tolerancePx;
+  const bool pinned = pins && pins->any();
+  if (pinned) markPinned(*pins, scratch);
+  const std::uint8_t* marked = scratch.m_state.data();
   auto active = [&](int i, int j) {
     const std::size_t v = std::size_t(j) * side + i;
     const float e = m_error[v];
-    if (e == kForced) return true;
+    if (e == kForced || (pinned && marked[v] != 0)) return true;
     if (!(e > 0.0f)) return false;  // a free vertex never pays for itself
     const double ex = i * m_vertexSpacingX - view.camera.x, ey = j * m_vertexSpacingY - view.camera.y;
     const double ez = double(m_height[v]) - view.camera.z;

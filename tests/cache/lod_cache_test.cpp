@@ -202,7 +202,7 @@ bool sameMesh(const BlockMesh& a, const BlockMesh& b) {
 void expectCountersAddUp(const LodCache& cache) {
   const LodCacheCounters& c = cache.counters();
   EXPECT_EQ(c.lookups, c.hits + c.rebuilds);
-  EXPECT_EQ(c.rebuilds, c.built + c.tooCoarse + c.needlesslyFine + c.changed + c.uncached);
+  EXPECT_EQ(c.rebuilds, c.built + c.tooCoarse + c.needlesslyFine + c.changed + c.pinned + c.uncached);
 }
 
 // ---- reuse ------------------------------------------------------------------------------
@@ -671,6 +671,167 @@ TEST(LodCache, CountModeReusesWithinTheHysteresis) {
   const Terrain other = makeTerrain(sinesField(2 * 33 + 1, 33 + 1));
   cache.acquire(node, other.lods[1], viewFor(other.lods[1], {100.0, 100.0, 200.0}), &outcome);
   EXPECT_EQ(outcome, LodOutcome::RebuiltChanged);
+  expectCountersAddUp(cache);
+}
+
+// ---- pins (pin(), RebuiltPinned) ----------------------------------------------------------
+
+// Positions along `side` of the mesh's side list: i on South and North, j on West and East.
+std::vector<int> sidePositions(const BlockMesh& mesh, terrain::BlockEdge side) {
+  std::vector<int> out;
+  for (std::uint32_t v : mesh.edge(side)) {
+    const GridVertex g = mesh.vertices[v];
+    out.push_back(side == terrain::BlockEdge::South || side == terrain::BlockEdge::North ? g.i : g.j);
+  }
+  return out;
+}
+
+bool hasPosition(const BlockMesh& mesh, terrain::BlockEdge side, int position) {
+  const std::vector<int> positions = sidePositions(mesh, side);
+  return std::find(positions.begin(), positions.end(), position) != positions.end();
+}
+
+bool containsVertices(const BlockMesh& fine, const BlockMesh& coarse) {
+  for (const GridVertex& c : coarse.vertices) {
+    bool found = false;
+    for (const GridVertex& f : fine.vertices) found |= f.i == c.i && f.j == c.j;
+    if (!found) return false;
+  }
+  return true;
+}
+
+// pin() on an uncached node fails; pinned positions make the next acquire rebuild
+// (RebuiltPinned) with those side vertices, later acquires keep them and reuse the mesh, pinning
+// what is pinned already changes nothing, and a camera receding far enough for a needlessly-fine
+// rebuild drops the pins.
+TEST(LodCache, PinsRebuildOnceAreKeptAndDroppedWhenTheCameraRecedes) {
+  const Terrain terrain = makeTerrain(sinesField(33 + 1, 33 + 1));
+  ASSERT_EQ(terrain.lods.size(), 1u);
+  const BlockLod& lod = terrain.lods[0];
+  const NodeId node = terrain.nodes[0];
+  const terrain::BlockEdge south = terrain::BlockEdge::South, east = terrain::BlockEdge::East;
+  LodCache cache;
+  const double headroom = LodCacheOptions{}.headroom;
+  terrain::RtinScratch scratch;
+  BlockMesh fresh;
+  // What the cache builds for `view` with `pins`: the extraction it promises.
+  auto expectBuiltFor = [&](const BlockMesh& mesh, const LodView& view, const terrain::BoundaryPins* pins) {
+    LodView build = view;
+    build.tolerancePx = view.tolerancePx / (1.0 + headroom);
+    lod.extractView(build, fresh, scratch, pins);
+    EXPECT_TRUE(sameMesh(mesh, fresh));
+  };
+
+  EXPECT_FALSE(cache.pin(node, south, 0, 32));  // not cached
+  EXPECT_EQ(cache.pins(node), nullptr);
+  EXPECT_FALSE(cache.contains(node));
+
+  // High over the block's north-east corner: the south side, farther away, stays coarser.
+  const glm::dvec3 near{300.0, 300.0, 600.0};
+  const LodView view = viewFor(lod, near);
+  LodOutcome outcome{};
+  const BlockMesh& first = cache.acquire(node, lod, view, &outcome);
+  ASSERT_EQ(outcome, LodOutcome::Built);
+  ASSERT_NE(cache.pins(node), nullptr);
+  EXPECT_FALSE(cache.pins(node)->any());
+  const BlockMesh unpinned = first;
+  // Pin a run of south positions the mesh lacks.
+  int from = -1;
+  for (int p = 1; p < 32 && from < 0; ++p) {
+    if (!hasPosition(unpinned, south, p)) from = p;
+  }
+  ASSERT_GE(from, 0) << "the south side is at full detail already";
+  const int to = std::min(from + 3, 32);
+
+  EXPECT_TRUE(cache.pin(node, south, from, to));
+  ASSERT_NE(cache.pins(node), nullptr);
+  EXPECT_TRUE(cache.pins(node)->any());
+  for (int p = from; p <= to; ++p) EXPECT_TRUE(cache.pins(node)->pinned(south, p));
+  EXPECT_FALSE(cache.pins(node)->pinned(south, from - 1));
+  EXPECT_TRUE(sameMesh(*cache.find(node), unpinned));  // nothing rebuilt before the next acquire
+
+  const BlockMesh& pinned = cache.acquire(node, lod, view, &outcome);
+  EXPECT_EQ(outcome, LodOutcome::RebuiltPinned);
+  EXPECT_EQ(cache.counters().pinned, 1u);
+  for (int p = from; p <= to; ++p) EXPECT_TRUE(hasPosition(pinned, south, p)) << "pinned position " << p;
+  EXPECT_TRUE(containsVertices(pinned, unpinned));
+  EXPECT_GT(pinned.vertices.size(), unpinned.vertices.size());
+  EXPECT_LE(worstProjectedRatio(terrain.field, lod, pinned, view), 1.0 + 1e-9);
+  expectBuiltFor(pinned, view, cache.pins(node));
+  const BlockMesh pinnedCopy = pinned;
+
+  // Later acquires from the same camera keep the pins and reuse the mesh.
+  for (int frame = 0; frame < 3; ++frame) {
+    cache.beginFrame();
+    const BlockMesh& mesh = cache.acquire(node, lod, view, &outcome);
+    EXPECT_EQ(outcome, LodOutcome::Reused) << "frame " << frame;
+    EXPECT_TRUE(sameMesh(mesh, pinnedCopy));
+  }
+  // Pinning what is pinned already: nothing new, no rebuild.
+  EXPECT_FALSE(cache.pin(node, south, from, to));
+  EXPECT_FALSE(cache.pin(node, south, from + 1, to));
+  cache.acquire(node, lod, view, &outcome);
+  EXPECT_EQ(outcome, LodOutcome::Reused);
+  EXPECT_EQ(cache.counters().pinned, 1u);
+
+  // One more position, on another side: one more pinned rebuild, keeping the old pins too.
+  int eastPosition = -1;
+  for (int p = 1; p < 32 && eastPosition < 0; ++p) {
+    if (!hasPosition(pinnedCopy, east, p)) eastPosition = p;
+  }
+  ASSERT_GE(eastPosition, 0) << "the east side is at full detail already";
+  EXPECT_TRUE(cache.pin(node, east, eastPosition, eastPosition));
+  ASSERT_LT(to, 32);
+  EXPECT_TRUE(cache.pin(node, south, from, to + 1));  // overlapping, one new position
+  const BlockMesh& twice = cache.acquire(node, lod, view, &outcome);
+  EXPECT_EQ(outcome, LodOutcome::RebuiltPinned);
+  EXPECT_EQ(cache.counters().pinned, 2u);
+  EXPECT_TRUE(hasPosition(twice, east, eastPosition));
+  for (int p = from; p <= to + 1; ++p) EXPECT_TRUE(hasPosition(twice, south, p)) << p;
+  expectBuiltFor(twice, view, cache.pins(node));
+
+  // Closing in: a too-coarse rebuild keeps the pins.
+  const LodView closer = viewFor(lod, {250.0, 250.0, 150.0});
+  const BlockMesh& close = cache.acquire(node, lod, closer, &outcome);
+  EXPECT_EQ(outcome, LodOutcome::RebuiltTooCoarse);
+  EXPECT_TRUE(cache.pins(node)->any());
+  EXPECT_TRUE(cache.pins(node)->pinned(east, eastPosition));
+  for (int p = from; p <= to; ++p) EXPECT_TRUE(hasPosition(close, south, p)) << p;
+  EXPECT_LE(worstProjectedRatio(terrain.field, lod, close, closer), 1.0 + 1e-9);
+
+  // Receding straight up: at some point the mesh is needlessly fine, and that rebuild drops
+  // the pins.
+  bool dropped = false;
+  int reusedWhilePinned = 0;
+  for (int frame = 1; frame <= 200 && !dropped; ++frame) {
+    const LodView up = viewFor(lod, {250.0, 250.0, 150.0 + 2.0 * frame * frame});
+    cache.beginFrame();
+    const BlockMesh& mesh = cache.acquire(node, lod, up, &outcome);
+    EXPECT_LE(worstProjectedRatio(terrain.field, lod, mesh, up), 1.0 + 1e-9) << "frame " << frame;
+    if (outcome == LodOutcome::RebuiltNeedlesslyFine) {
+      dropped = true;
+      ASSERT_NE(cache.pins(node), nullptr);
+      EXPECT_FALSE(cache.pins(node)->any());
+      expectBuiltFor(mesh, up, nullptr);  // built without pins
+    } else {
+      EXPECT_TRUE(cache.pins(node)->any()) << "frame " << frame << " outcome " << int(outcome);
+      for (int p = from; p <= to + 1; ++p) EXPECT_TRUE(hasPosition(mesh, south, p)) << "frame " << frame;
+      reusedWhilePinned += outcome == LodOutcome::Reused;
+    }
+  }
+  EXPECT_TRUE(dropped);
+  EXPECT_GT(reusedWhilePinned, 0);
+  EXPECT_GT(cache.counters().needlesslyFine, 0u);
+
+  // Pins may come back after the drop; invalidate forgets them with the mesh.
+  EXPECT_TRUE(cache.pin(node, south, from, to));
+  EXPECT_TRUE(cache.invalidate(node));
+  EXPECT_EQ(cache.pins(node), nullptr);
+  EXPECT_FALSE(cache.pin(node, south, from, to));
+  cache.acquire(node, lod, view, &outcome);
+  EXPECT_EQ(outcome, LodOutcome::Built);
+  EXPECT_FALSE(cache.pins(node)->any());
+  EXPECT_TRUE(sameMesh(*cache.find(node), unpinned));
   expectCountersAddUp(cache);
 }
 

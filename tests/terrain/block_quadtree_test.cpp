@@ -1,5 +1,6 @@
 #include <polder/terrain/block_quadtree.hpp>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
@@ -7,6 +8,7 @@
 #include <limits>
 #include <new>
 #include <random>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -436,6 +438,131 @@ TEST(BlockQuadtree, FallsBackToTheResidentAncestorNeverAHole) {
       }
     }
   }
+}
+
+// ---- forced splits (SelectionOptions::forcedSplits) ---------------------------------------
+
+bool isAncestorOrSelf(const NodeId& ancestor, const NodeId& node) {
+  if (ancestor.level < node.level) return false;
+  const int up = ancestor.level - node.level;
+  return (node.bx >> up) == ancestor.bx && (node.by >> up) == ancestor.by;
+}
+
+bool sameSelection(const std::vector<SelectedNode>& a, const std::vector<SelectedNode>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (!(a[i].node == b[i].node) || a[i].visible != b[i].visible || a[i].distanceM != b[i].distanceM ||
+        a[i].refinementBlocked != b[i].refinementBlocked)
+      return false;
+  }
+  return true;
+}
+
+// The cut without the nodes inside `node`'s footprint (in order).
+std::vector<SelectedNode> outside(const std::vector<SelectedNode>& cut, const NodeId& node) {
+  std::vector<SelectedNode> out;
+  for (const SelectedNode& s : cut)
+    if (!isAncestorOrSelf(node, s.node)) out.push_back(s);
+  return out;
+}
+
+// A node the plain selection takes (visible) or culls, listed in forcedSplits, gives way to its
+// children (culled children stay culled); the rest of the cut is unchanged and the cut still
+// tiles the DEM. An empty list, or one of level-0 nodes only, gives the plain selection.
+TEST(BlockQuadtree, ForcedSplitsReplaceListedNodesByTheirChildren) {
+  const Heightfield field = makeField(230, 201, 14);
+  const BlockLayout layout = *BlockLayout::create(field.width, field.height, 3);
+  const BlockQuadtree tree = buildTree(field, layout);
+  std::mt19937_64 rng(31);
+  SelectionScratch scratch;
+  std::vector<SelectedNode> plain, forcedCut, again;
+  int takenForced = 0, culledForced = 0, deepForced = 0;
+  for (int c = 0; c < 40; ++c) {
+    const Camera camera = randomCamera(rng, field);
+    const double tau = std::array<double, 3>{1.0, 4.0, 16.0}[std::size_t(c % 3)];
+    const NodeErrorMeasure measure = c % 2 ? NodeErrorMeasure::Floor : NodeErrorMeasure::Delta;
+    SCOPED_TRACE("camera " + std::to_string(c));
+    const SelectionStats plainStats = tree.select(camera, SelectionOptions{tau, measure}, scratch, plain);
+    expectTiling(layout, plain);
+
+    // Empty lists: the plain selection.
+    const std::array<NodeId, 0> none{};
+    SelectionOptions empty{tau, measure};
+    empty.forcedSplits = none;
+    const SelectionStats emptyStats = tree.select(camera, empty, scratch, again);
+    EXPECT_TRUE(sameSelection(again, plain));
+    EXPECT_EQ(emptyStats.nodesVisited, plainStats.nodesVisited);
+    const std::array<NodeId, 2> leaves{NodeId{0, 0, 0}, plain.front().node.level == 0 ? plain.front().node : NodeId{0, 1, 1}};
+    SelectionOptions levelZero{tau, measure};
+    levelZero.forcedSplits = leaves;
+    tree.select(camera, levelZero, scratch, again);
+    EXPECT_TRUE(sameSelection(again, plain)) << "level-0 entries are ignored";
+
+    // Each coarse node of the plain cut, forced on its own.
+    for (const SelectedNode& s : plain) {
+      if (s.node.level == 0) continue;
+      const std::array<NodeId, 1> list{s.node};
+      SelectionOptions options{tau, measure};
+      options.forcedSplits = list;
+      const SelectionStats stats = tree.select(camera, options, scratch, forcedCut);
+      SCOPED_TRACE("forced level " + std::to_string(int(s.node.level)) + (s.visible ? " visible" : " culled"));
+      expectTiling(layout, forcedCut);
+      EXPECT_EQ(stats.visibleNodes + stats.culledNodes, forcedCut.size());
+      EXPECT_TRUE(sameSelection(outside(forcedCut, s.node), outside(plain, s.node))) << "the rest of the cut changed";
+      std::size_t inside = 0, directChildren = 0, existingChildren = 0;
+      for (int q = 0; q < 4; ++q) existingChildren += layout.exists(s.node.child(q));
+      for (const SelectedNode& f : forcedCut) {
+        if (!isAncestorOrSelf(s.node, f.node)) continue;
+        ++inside;
+        EXPECT_LT(f.node.level, s.node.level) << "the forced node is still in the cut";
+        directChildren += f.node.level + 1 == s.node.level;
+        if (!s.visible) {
+          EXPECT_FALSE(f.visible) << "a child of a culled node became visible";
+        }
+      }
+      EXPECT_GE(inside, existingChildren);
+      if (!s.visible) {
+        // Culled children are never refined further (unless not drawable at their stride).
+        std::size_t drawableChildren = 0;
+        for (int q = 0; q < 4; ++q) {
+          const NodeId child = s.node.child(q);
+          drawableChildren += layout.exists(child) && std::isfinite(tree.info(child).delta());
+        }
+        EXPECT_GE(directChildren, drawableChildren);
+        ++culledForced;
+      } else {
+        ++takenForced;
+      }
+    }
+
+    // A node below the plain cut: its ancestors and itself are refined.
+    const SelectedNode& coarse = *std::max_element(plain.begin(), plain.end(), [](const SelectedNode& a, const SelectedNode& b) {
+      return a.node.level < b.node.level;
+    });
+    if (coarse.node.level >= 2) {
+      NodeId deep = coarse.node;
+      while (deep.level > 1) {
+        const NodeId child = deep.child(int(rng() % 4));
+        if (!layout.exists(child)) break;
+        deep = child;
+      }
+      if (deep.level < coarse.node.level) {
+        const std::array<NodeId, 2> list{deep, NodeId{0, 2, 2}};
+        SelectionOptions options{tau, measure};
+        options.forcedSplits = list;
+        tree.select(camera, options, scratch, forcedCut);
+        expectTiling(layout, forcedCut);
+        for (const SelectedNode& f : forcedCut) {
+          EXPECT_FALSE(isAncestorOrSelf(f.node, deep)) << "an ancestor of a forced node (or itself) is in the cut";
+        }
+        EXPECT_TRUE(sameSelection(outside(forcedCut, coarse.node), outside(plain, coarse.node)));
+        ++deepForced;
+      }
+    }
+  }
+  EXPECT_GT(takenForced, 20);
+  EXPECT_GT(culledForced, 5);
+  EXPECT_GT(deepForced, 5);
 }
 
 TEST(BlockQuadtree, SteadyStateSelectionAllocatesNothing) {

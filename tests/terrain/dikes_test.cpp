@@ -380,6 +380,111 @@ TEST(Dikes, WatertightWithNeighboursManyLevelsApart) {
   EXPECT_GT(bigJumps, 5);
 }
 
+// With every block at full detail at level 0 (stride 1), every dike triangle is a half cell
+// of heightfield.hpp's triangulation, cut from (x+1, y) to (x, y+1): zippers and junctions
+// alike, so the dikes are the surface itself and every exact error is 0. On random heights per
+// sample any other cut of a cell is off by |h00 + h11 - h10 - h01| / 2 at the cell centre, so a
+// junction of one cell cut along the other diagonal (the tie-break between two equally long
+// diagonals) shows at once.
+TEST(Dikes, FullDetailAtLevelZeroIsTheSurface) {
+  // Edge blocks clipped, dikes against the DEM's east and north borders (e.g. 69 = 4 * 17 + 1:
+  // the last interior ends one sample before the border), single-cell blocks (k = 1: a
+  // junction at every block corner), and the default block size.
+  const Case cases[] = {{67, 67, 4}, {69, 52, 4}, {100, 61, 4}, {131, 97, 3}, {34, 34, 5}, {35, 70, 5},
+                        {41, 29, 1}, {30, 43, 2}, {18, 18, 4}, {19, 36, 4}};
+  std::mt19937_64 rng(424242);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  DikeScratch scratch;
+  FrameResult frame;
+  std::size_t junctionTriangles = 0, zipperTriangles = 0, bruteForced = 0;
+  for (const Case& c : cases) {
+    Heightfield field(c.width, c.height, 10.0, 10.0);
+    for (int y = 0; y < c.height; ++y)
+      for (int x = 0; x < c.width; ++x) field.at(x, y) = float(100.0 * unit(rng));  // rough: no two cells alike
+    auto layout = BlockLayout::create(c.width, c.height, c.k);
+    ASSERT_TRUE(layout.ok());
+    Blocks lods;
+    lods.field = &field;
+    const std::vector<NodeId> cut = makeCut(*layout, CutKind::Finest, rng);
+    for (const NodeId& node : cut) ASSERT_EQ(node.level, 0);
+    const std::string what = std::to_string(c.width) + "x" + std::to_string(c.height) + " k" + std::to_string(c.k);
+    buildFrame(*layout, cut, lods, LodKind::Full, rng, frame, scratch);
+    if (HasFatalFailure()) return;
+    expectWatertight(*layout, frame, what);
+    const DikeMesh& dikes = frame.dikes;
+    std::vector<float> exact;
+    EXPECT_EQ(dikeTriangleErrors(field, dikes, &exact), 0.0f) << what;
+    ASSERT_EQ(exact.size(), dikes.triangleCount());
+    for (std::size_t t = 0; t < dikes.triangleCount(); ++t) {
+      const DikeVertex a = dikes.vertices[dikes.indices[3 * t]], b = dikes.vertices[dikes.indices[3 * t + 1]],
+                       d = dikes.vertices[dikes.indices[3 * t + 2]];
+      const std::string tri = what + (t < dikes.zipperTriangles ? ": zipper" : ": junction") + " triangle (" +
+                              std::to_string(a.x) + "," + std::to_string(a.y) + ") (" + std::to_string(b.x) + "," +
+                              std::to_string(b.y) + ") (" + std::to_string(d.x) + "," + std::to_string(d.y) + ")";
+      EXPECT_EQ(dikeTriangleError(field, a, b, d), 0.0f) << tri;
+      EXPECT_EQ(dikeTriangleError(field, a, d, b), 0.0f) << tri << " (other winding)";
+      EXPECT_EQ(exact[t], 0.0f) << tri;
+      // Its shape: one of the two halves of a cell, cut from (x+1, y) to (x, y+1).
+      const int x0 = std::min({a.x, b.x, d.x}), y0 = std::min({a.y, b.y, d.y});
+      std::array<std::pair<int, int>, 3> corners{{{a.x, a.y}, {b.x, b.y}, {d.x, d.y}}};
+      std::sort(corners.begin(), corners.end());
+      const std::array<std::pair<int, int>, 3> lower{{{x0, y0}, {x0, y0 + 1}, {x0 + 1, y0}}};
+      const std::array<std::pair<int, int>, 3> upper{{{x0, y0 + 1}, {x0 + 1, y0}, {x0 + 1, y0 + 1}}};
+      EXPECT_TRUE(corners == lower || corners == upper) << tri << " is not a half cell of the surface";
+      if (t % 5 == 0) {  // the brute force of this file agrees (a sample of the triangles)
+        EXPECT_LE(bruteForceError(field, a, b, d), 1e-9) << tri;
+        ++bruteForced;
+      }
+    }
+    junctionTriangles += dikes.triangleCount() - dikes.zipperTriangles;
+    zipperTriangles += dikes.zipperTriangles;
+  }
+  EXPECT_GT(junctionTriangles, 100u);  // one-cell junctions at the block corners, among others
+  EXPECT_GT(zipperTriangles, 1000u);
+  EXPECT_GT(bruteForced, 100u);
+}
+
+// A 4-vertex junction of one cell, alone: two blocks of one cell side by side under two more
+// (k = 1, 2 x 2 blocks, 6 x 6 samples), each at full detail. Whatever the walk's starting
+// vertex, the cell where the four blocks' corners meet is cut from (x+1, y) to (x, y+1).
+TEST(Dikes, OneCellJunctionsAreCutLikeTheSurface) {
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const int size = 6 + int(seed % 3);  // 6: no border strip; 7, 8: border strips and corners
+    Heightfield field(size, size, 10.0, 10.0);
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) field.at(x, y) = float(50.0 * unit(rng) - 25.0);
+    auto layout = BlockLayout::create(size, size, 1);
+    ASSERT_TRUE(layout.ok());
+    Blocks lods;
+    lods.field = &field;
+    DikeScratch scratch;
+    FrameResult frame;
+    buildFrame(*layout, makeCut(*layout, CutKind::Finest, rng), lods, LodKind::Full, rng, frame, scratch);
+    if (HasFatalFailure()) return;
+    expectWatertight(*layout, frame, "seed " + std::to_string(seed));
+    ASSERT_GT(frame.dikes.triangleCount(), frame.dikes.zipperTriangles);
+    std::vector<float> exact;
+    EXPECT_EQ(dikeTriangleErrors(field, frame.dikes, &exact), 0.0f) << "seed " << seed;
+    // The junction at (2, 2)-(3, 3), where the four blocks' corners meet: its two triangles
+    // share the diagonal (3, 2)-(2, 3) and neither uses (2, 2)-(3, 3).
+    bool sawDiagonal = false;
+    for (std::size_t t = frame.dikes.zipperTriangles; t < frame.dikes.triangleCount(); ++t) {
+      DikeVertex v[3];
+      for (int k = 0; k < 3; ++k) v[k] = frame.dikes.vertices[frame.dikes.indices[3 * t + k]];
+      for (int e = 0; e < 3; ++e) {
+        const DikeVertex p = v[e], q = v[(e + 1) % 3];
+        const bool southWestToNorthEast = std::abs(p.x - q.x) == 1 && (p.x - q.x) == (p.y - q.y);
+        EXPECT_FALSE(southWestToNorthEast) << "seed " << seed << ": junction edge (" << p.x << "," << p.y << ")-(" << q.x
+                                           << "," << q.y << ") cuts a cell against the surface";
+        sawDiagonal |= (p == DikeVertex{3, 2} && q == DikeVertex{2, 3}) || (p == DikeVertex{2, 3} && q == DikeVertex{3, 2});
+      }
+    }
+    EXPECT_TRUE(sawDiagonal) << "seed " << seed;
+  }
+}
+
 // A DEM that is a single block: no gap when the block fills it, a border strip otherwise.
 TEST(Dikes, SingleBlockDems) {
   std::mt19937_64 rng(5);

@@ -13,6 +13,7 @@
 #include <map>
 #include <numeric>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -858,6 +859,262 @@ TEST_P(RtinClippedTest, ClippedBlockTilesItsValidRectangle) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Strides, RtinClippedTest, testing::Values(1, 4));
+
+// ---- boundary pins (BlockLod::extractView with BoundaryPins) -------------------------------
+
+// The bintree's vertex dependencies, from a walk written here: for every triangle whose
+// hypotenuse has a grid midpoint, midpoint -> apex. A vertex is in a conforming mesh only with
+// the apexes of the triangles it splits (their parents are split), recursively.
+std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> dependencyApexes(int n) {
+  std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> apexes;
+  std::vector<std::array<int, 6>> pending = {{0, 0, n, 0, 0, n}, {n, n, 0, n, n, 0}};
+  while (!pending.empty()) {
+    const std::array<int, 6> t = pending.back();
+    pending.pop_back();
+    if (std::abs(t[2] - t[4]) == 1) continue;  // a half cell: its hypotenuse has no grid midpoint
+    const int mi = (t[2] + t[4]) / 2, mj = (t[3] + t[5]) / 2;
+    apexes[{mi, mj}].push_back({t[0], t[1]});
+    pending.push_back({mi, mj, t[0], t[1], t[2], t[3]});
+    pending.push_back({mi, mj, t[4], t[5], t[0], t[1]});
+  }
+  return apexes;
+}
+
+using VertexSet = std::set<std::pair<int, int>>;
+
+VertexSet vertexSet(const BlockMesh& mesh) {
+  VertexSet out;
+  for (const GridVertex& v : mesh.vertices) out.insert({v.i, v.j});
+  return out;
+}
+
+// Side position -> block-local vertex, for a mesh of cellsX x cellsY cells.
+std::pair<int, int> sideVertex(BlockEdge side, int position, int cellsX, int cellsY) {
+  switch (side) {
+    case BlockEdge::South: return {position, 0};
+    case BlockEdge::East: return {cellsX, position};
+    case BlockEdge::North: return {position, cellsY};
+    case BlockEdge::West: return {0, position};
+  }
+  return {-1, -1};
+}
+
+bool sameMeshExactly(const BlockMesh& a, const BlockMesh& b) {
+  if (a.vertices.size() != b.vertices.size() || a.indices != b.indices || a.edges != b.edges) return false;
+  if (a.maxError != b.maxError || a.cellsX != b.cellsX || a.cellsY != b.cellsY) return false;
+  for (std::size_t v = 0; v < a.vertices.size(); ++v)
+    if (a.vertices[v].i != b.vertices[v].i || a.vertices[v].j != b.vertices[v].j) return false;
+  return true;
+}
+
+// Random pins: a few ranges per side, some single positions, some past the side's end (and, for
+// a clipped block, past its valid rectangle: ignored).
+BoundaryPins randomPins(std::mt19937& rng, int n) {
+  std::uniform_int_distribution<int> position(0, n), ranges(0, 3), length(0, 5), coin(0, 9);
+  BoundaryPins pins;
+  for (int side = 0; side < 4; ++side) {
+    const int count = ranges(rng);
+    for (int r = 0; r < count; ++r) {
+      const int from = position(rng);
+      const int to = coin(rng) == 0 ? from + 3 * n : from + length(rng);  // sometimes past the end
+      pins.pin(BlockEdge(side), from, to);
+    }
+  }
+  return pins;
+}
+
+struct PinCase {
+  Shape shape;
+  int k, stride;
+  int cellsX, cellsY;  // < 2^k: a clipped block
+};
+
+// For random views and random pins: every pinned position (inside the valid rectangle) is a
+// vertex of its side, the mesh is conforming and honest, its vertex set is the unpinned mesh's
+// plus exactly the pins and what they depend on (computed here), the view's bound still holds,
+// and empty pins give exactly the unpinned mesh.
+TEST(Rtin, PinnedSideVerticesAreKeptAndTheMeshStaysConforming) {
+  const PinCase cases[] = {{Shape::Random, 4, 1, 16, 16},  {Shape::Fractal, 5, 1, 32, 32}, {Shape::Sines, 5, 4, 32, 32},
+                           {Shape::Fractal, 6, 2, 64, 64}, {Shape::Fractal, 5, 1, 11, 19}, {Shape::Sines, 5, 4, 11, 19},
+                           {Shape::Random, 3, 2, 8, 8}};
+  std::mt19937 rng(4242u);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double kConstant = 720.0 / (2.0 * std::tan(glm::radians(30.0)));
+  int pinsAddedVertices = 0, pinsIgnored = 0;
+  for (const PinCase& cs : cases) {
+    const int n = 1 << cs.k;
+    const bool clipped = cs.cellsX < n || cs.cellsY < n;
+    const int x0 = 3, y0 = 2;
+    // A clipped block also gets a remainder narrower than the stride.
+    const int w = x0 + cs.cellsX * cs.stride + 1 + (clipped ? cs.stride - 1 : 4);
+    const int h = y0 + cs.cellsY * cs.stride + 1 + (clipped ? 0 : 3);
+    const Heightfield field = makeField(cs.shape, w, h, 5u + unsigned(cs.k) * 3u + unsigned(cs.stride));
+    auto built = BlockLod::build(field, BlockFootprint{x0, y0, cs.k, cs.stride});
+    ASSERT_TRUE(built.ok()) << built.error().message;
+    const BlockLod& lod = *built;
+    ASSERT_EQ(lod.clipped(), clipped);
+    ASSERT_EQ(lod.cellsX(), cs.cellsX);
+    ASSERT_EQ(lod.cellsY(), cs.cellsY);
+    const auto apexes = dependencyApexes(n);
+    const double extentX = n * cs.stride * field.spacingX, extentY = n * cs.stride * field.spacingY;
+    BlockMesh plain, pinned, again;
+    RtinScratch scratch;  // shared by every extraction: the marks must not leak from one to the next
+    for (int trial = 0; trial < 16; ++trial) {
+      LodView view;
+      view.camera = {(unit(rng) * 2.0 - 0.5) * extentX, (unit(rng) * 2.0 - 0.5) * extentY,
+                     lod.maxHeight() + 2.0 + unit(rng) * (trial < 8 ? 60.0 : 1500.0)};
+      view.projectionConstant = kConstant;
+      view.tolerancePx = trial % 3 == 0 ? 0.5 : (trial % 3 == 1 ? 2.0 : 8.0);
+      view.nearM = 1.0;
+      BoundaryPins pins = randomPins(rng, n);
+      if (trial == 0) pins.clear();
+      if (trial == 1) {  // every position of every side
+        for (int side = 0; side < 4; ++side) pins.pin(BlockEdge(side), 0, n);
+      }
+      SCOPED_TRACE(std::string(shapeName(cs.shape)) + " k " + std::to_string(cs.k) + " stride " +
+                   std::to_string(cs.stride) + " " + std::to_string(cs.cellsX) + "x" + std::to_string(cs.cellsY) +
+                   " trial " + std::to_string(trial));
+
+      lod.extractView(view, plain, scratch);
+      lod.extractView(view, pinned, scratch, &pins);
+      expectConforming(pinned);
+      if (HasFatalFailure()) return;
+      expectHonest(field, pinned);
+      expectHalfCellCuts(pinned);
+
+      // Every pin inside the valid rectangle is a vertex of its side's list.
+      for (int side = 0; side < 4; ++side) {
+        const BlockEdge which = BlockEdge(side);
+        const int length = (which == BlockEdge::South || which == BlockEdge::North) ? cs.cellsX : cs.cellsY;
+        std::set<int> onSide;
+        for (std::uint32_t v : pinned.edge(which)) {
+          const GridVertex g = pinned.vertices[v];
+          onSide.insert((which == BlockEdge::South || which == BlockEdge::North) ? g.i : g.j);
+        }
+        for (int p = 0; p <= n; ++p) {
+          if (!pins.pinned(which, p)) continue;
+          if (p > length) {
+            ++pinsIgnored;
+            continue;
+          }
+          EXPECT_EQ(onSide.count(p), 1u) << "side " << side << " lost pinned position " << p;
+        }
+      }
+
+      // The vertex set: the unpinned mesh's plus the pins' dependency closure (independent walk).
+      const VertexSet plainSet = vertexSet(plain), pinnedSet = vertexSet(pinned);
+      EXPECT_TRUE(std::includes(pinnedSet.begin(), pinnedSet.end(), plainSet.begin(), plainSet.end()))
+          << "pinning dropped a vertex of the view's mesh";
+      VertexSet closure;
+      std::vector<std::pair<int, int>> stack;
+      for (int side = 0; side < 4; ++side) {
+        const BlockEdge which = BlockEdge(side);
+        const int length = (which == BlockEdge::South || which == BlockEdge::North) ? cs.cellsX : cs.cellsY;
+        for (int p = 0; p <= length; ++p) {
+          if (pins.pinned(which, p)) stack.push_back(sideVertex(which, p, cs.cellsX, cs.cellsY));
+        }
+      }
+      while (!stack.empty()) {
+        const std::pair<int, int> v = stack.back();
+        stack.pop_back();
+        if (!closure.insert(v).second) continue;
+        const auto it = apexes.find(v);
+        if (it != apexes.end())
+          for (const auto& a : it->second) stack.push_back(a);
+      }
+      VertexSet expected = plainSet;
+      for (const auto& v : closure)
+        if (v.first <= cs.cellsX && v.second <= cs.cellsY) expected.insert(v);
+      if (!clipped) {
+        EXPECT_EQ(pinnedSet, expected) << "the pinned mesh is not the view's mesh plus the pins' closure";
+      } else {
+        // Outside the valid rectangle the closure may reach further; what lies inside is kept,
+        // and nothing beyond the closure is added.
+        EXPECT_TRUE(std::includes(pinnedSet.begin(), pinnedSet.end(), expected.begin(), expected.end()));
+        for (const auto& v : pinnedSet) {
+          EXPECT_TRUE(plainSet.count(v) != 0 || closure.count(v) != 0) << "vertex " << v.first << "," << v.second
+                                                                        << " added beyond the pins' closure";
+        }
+      }
+      pinsAddedVertices += pinnedSet.size() > plainSet.size();
+      if (trial == 1) {  // every side complete
+        for (int side = 0; side < 4; ++side) {
+          const BlockEdge which = BlockEdge(side);
+          const int length = (which == BlockEdge::South || which == BlockEdge::North) ? cs.cellsX : cs.cellsY;
+          EXPECT_EQ(pinned.edge(which).size(), std::size_t(length) + 1) << "side " << side;
+        }
+      }
+
+      // A refinement of the view's mesh: the view's bound still holds (half cells aside).
+      for (std::size_t t = 0; t < pinned.triangleCount(); ++t) {
+        const GridVertex a = pinned.vertices[pinned.indices[3 * t]], b = pinned.vertices[pinned.indices[3 * t + 1]],
+                         c = pinned.vertices[pinned.indices[3 * t + 2]];
+        if (std::abs(b.i - c.i) == 1) continue;
+        const double err = bruteError(field, lod.footprint(), a, b, c);
+        const double distance = pointTriangleDistance(view.camera, lod.position(a.i, a.j), lod.position(b.i, b.j),
+                                                      lod.position(c.i, c.j));
+        ASSERT_LE(kConstant * err / std::max(distance, view.nearM), view.tolerancePx * (1.0 + 1e-9)) << "triangle " << t;
+      }
+
+      // Empty pins, or pins already in the mesh, change nothing; nor does the order of calls.
+      const BoundaryPins none;
+      lod.extractView(view, again, scratch, &none);
+      EXPECT_TRUE(sameMeshExactly(again, plain)) << "empty pins changed the mesh";
+      BoundaryPins present;
+      for (int side = 0; side < 4; ++side) {
+        for (std::uint32_t v : plain.edge(BlockEdge(side))) {
+          const GridVertex g = plain.vertices[v];
+          const BlockEdge which = BlockEdge(side);
+          const int p = (which == BlockEdge::South || which == BlockEdge::North) ? g.i : g.j;
+          present.pin(which, p, p);
+        }
+      }
+      lod.extractView(view, again, scratch, &present);
+      EXPECT_TRUE(sameMeshExactly(again, plain)) << "pinning the mesh's own side vertices changed it";
+      lod.extractView(view, again, scratch, &pins);
+      EXPECT_TRUE(sameMeshExactly(again, pinned)) << "the same pins gave another mesh";
+      lod.extractView(view, again, scratch);
+      EXPECT_TRUE(sameMeshExactly(again, plain)) << "a pinned extraction left marks in the scratch";
+    }
+  }
+  EXPECT_GT(pinsAddedVertices, 40);  // the pins mattered in most trials
+  EXPECT_GT(pinsIgnored, 0);         // and some fell outside a side
+}
+
+// Pins at the coarsest view: a single pinned position in the middle of the south side pulls in
+// exactly its chain of apexes, and the mesh stays conforming.
+TEST(Rtin, OnePinRefinesOnlyItsDependencyChain) {
+  const Block block = makeBlock(Shape::Fractal, 5, 1, 61u);
+  const BlockLod& lod = block.lod;
+  const LodView far{glm::dvec3(160.0, 160.0, 1.0e7), 600.0, 1.0, 1.0};  // nothing active
+  BlockMesh mesh;
+  RtinScratch scratch;
+  lod.extractView(far, mesh, scratch);
+  ASSERT_EQ(mesh.triangleCount(), 2u);
+  BoundaryPins pins;
+  EXPECT_TRUE(pins.pin(BlockEdge::South, 5, 5));
+  EXPECT_FALSE(pins.pin(BlockEdge::South, 5, 5));  // already pinned
+  lod.extractView(far, mesh, scratch, &pins);
+  expectConforming(mesh);
+  expectHalfCellCuts(mesh);
+  VertexSet expected = {{0, 0}, {32, 0}, {0, 32}, {32, 32}};
+  const auto apexes = dependencyApexes(32);
+  std::vector<std::pair<int, int>> stack = {{5, 0}};
+  while (!stack.empty()) {
+    const auto v = stack.back();
+    stack.pop_back();
+    if (!expected.insert(v).second) continue;
+    const auto it = apexes.find(v);
+    if (it != apexes.end())
+      for (const auto& a : it->second) stack.push_back(a);
+  }
+  EXPECT_EQ(vertexSet(mesh), expected);
+  // (5, 0) depends on (4, 1)... up to the root centre (16, 16): more than the corners.
+  EXPECT_GT(expected.size(), 8u);
+  std::vector<int> south;
+  for (std::uint32_t v : mesh.edge(BlockEdge::South)) south.push_back(mesh.vertices[v].i);
+  EXPECT_TRUE(std::find(south.begin(), south.end(), 5) != south.end());
+}
 
 TEST(Rtin, SteadyStateExtractionDoesNotAllocate) {
   const Block block = makeBlock(Shape::Fractal, 5, 1, 3u);

@@ -10,7 +10,7 @@ DikeStage::DikeStage(const terrain::Heightfield& field, const terrain::BlockLayo
   m_blocks.reserve(maxNodes);
   m_mesh.reserve(layout, maxNodes);
   m_scratch.reserve(layout, maxNodes);
-  m_vertexVisible.reserve(terrain::dikeVertexBound(layout, maxNodes));
+  m_vertexNode.reserve(terrain::dikeVertexBound(layout, maxNodes));
   m_visibleIndices.reserve(3 * terrain::dikeTriangleBound(layout, maxNodes));
 }
 
@@ -29,7 +29,7 @@ void DikeStage::stitch(std::span<const terrain::SelectedNode> cut, std::span<con
 
   // The output lists every node's boundary vertices, node by node in cut order (corners only
   // for a node without a mesh), then the DEM-border samples.
-  m_vertexVisible.assign(m_mesh.vertices.size(), 0);
+  m_vertexNode.assign(m_mesh.vertices.size(), kNoNode);
   std::size_t next = 0;
   for (std::size_t i = 0; i < cut.size(); ++i) {
     std::size_t count = 4;
@@ -38,12 +38,13 @@ void DikeStage::stitch(std::span<const terrain::SelectedNode> cut, std::span<con
       for (const auto& side : mesh->edges) count += side.size();
       count -= 4;  // each corner sits on two sides
     }
-    for (std::size_t v = next; v < next + count && v < m_vertexVisible.size(); ++v) m_vertexVisible[v] = cut[i].visible;
+    for (std::size_t v = next; v < next + count && v < m_vertexNode.size(); ++v) m_vertexNode[v] = std::uint32_t(i);
     next += count;
   }
+  auto visible = [&](std::uint32_t v) { return m_vertexNode[v] != kNoNode && cut[m_vertexNode[v]].visible; };
   for (std::size_t t = 0; t + 2 < m_mesh.indices.size(); t += 3) {
     const std::uint32_t a = m_mesh.indices[t], b = m_mesh.indices[t + 1], c = m_mesh.indices[t + 2];
-    if (m_vertexVisible[a] || m_vertexVisible[b] || m_vertexVisible[c])
+    if (visible(a) || visible(b) || visible(c))
       m_visibleIndices.insert(m_visibleIndices.end(), {a, b, c});
   }
 }

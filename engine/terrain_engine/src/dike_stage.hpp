@@ -2,6 +2,7 @@
 // and keeps, for drawing, the dike triangles that touch a visible block.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -23,6 +24,10 @@ class DikeStage {
   // Triangles (indices into mesh().vertices) with a vertex on a visible block's side.
   std::span<const std::uint32_t> visibleIndices() const { return m_visibleIndices; }
   std::size_t visibleTriangleCount() const { return m_visibleIndices.size() / 3; }
+  // Per vertex of mesh(): the index in the cut of the node whose side it is on, or kNoNode for
+  // a DEM-border sample.
+  static constexpr std::uint32_t kNoNode = 0xffffffffu;
+  std::span<const std::uint32_t> vertexNodes() const { return m_vertexNode; }
 
   // Checks the last stitched frame, blocks and dikes together (allocates: not for the frame path).
   terrain::WatertightReport checkWatertight() const;
@@ -33,7 +38,7 @@ class DikeStage {
   std::vector<terrain::DikeBlock> m_blocks;
   terrain::DikeMesh m_mesh;
   terrain::DikeScratch m_scratch;
-  std::vector<std::uint8_t> m_vertexVisible;
+  std::vector<std::uint32_t> m_vertexNode;
   std::vector<std::uint32_t> m_visibleIndices;
   bool m_failed = false;
 };

@@ -12,6 +12,7 @@
 #include <polder/terrain/normals.hpp>
 #include <polder/terrain/rtin.hpp>
 
+#include "dike_check.hpp"
 #include "dike_stage.hpp"
 
 namespace polder {
@@ -60,6 +61,10 @@ struct TerrainEngine::Impl {
   std::vector<std::size_t> visibleInCut;  // indices into cut of the visible nodes
   lod::AllocationScratch allocationScratch{0};
   DikeStage dikes;
+  DikeCheck dikeCheck;
+  static constexpr std::size_t kMaxForcedSplits = 64;
+  std::vector<terrain::NodeId> forcedSplits;  // SelectionOptions::forcedSplits, reserved
+  std::vector<double> forcedSplitDistances;   // camera distance when each was added
   std::size_t lastDikeTriangles = 0;
   TerrainFrame frame;
   std::vector<MeshData> blockMeshes;  // frameMeshes() storage, reused
@@ -68,7 +73,7 @@ struct TerrainEngine::Impl {
   Impl(std::shared_ptr<const terrain::Heightfield> f, terrain::BlockLayout l, terrain::BlockQuadtree q,
        const TerrainEngineOptions& o)
       : field(std::move(f)), layout(l), quadtree(std::move(q)), options(o),
-        meshes(cacheOptions(o)), dikes(*field, layout) {
+        meshes(cacheOptions(o)), dikes(*field, layout), dikeCheck(*field, layout) {
     selectionScratch.reserve(quadtree);
     const std::size_t bound = quadtree.selectionBound();
     cut.reserve(bound);
@@ -78,6 +83,9 @@ struct TerrainEngine::Impl {
     visibleInCut.reserve(bound);
     allocationScratch.reserve(bound);
     frame.blocks.reserve(bound);
+    dikeCheck.reserve(bound);
+    forcedSplits.reserve(kMaxForcedSplits);
+    forcedSplitDistances.reserve(kMaxForcedSplits);
   }
 
   const terrain::BlockLod* lodFor(const terrain::NodeId& node) {
@@ -95,11 +103,62 @@ struct TerrainEngine::Impl {
                             std::max(camera.nearM, 1e-3)};
   }
 
+  void select(const Camera& camera) {
+    terrain::SelectionOptions selection;
+    selection.tolerancePx = options.mode == LodMode::PixelError ? options.tauPx : 1.0;
+    selection.errorMeasure = terrain::NodeErrorMeasure::Floor;
+    if (options.mode == LodMode::PixelError) selection.forcedSplits = forcedSplits;
+    quadtree.select(camera, selection, selectionScratch, cut);
+    cutMeshes.assign(cut.size(), nullptr);
+  }
+
+  double distanceTo(const terrain::NodeId& node, const Camera& camera) const {
+    const Aabb box = quadtree.box(node);
+    return glm::length(glm::clamp(camera.position, box.minCorner, box.maxCorner) - camera.position);
+  }
+
+  // Adds nodes to split (dike_check.hpp); true when one is new. Each is kept until the camera
+  // is twice as far from it as when it was added.
+  bool forceSplits(std::span<const terrain::NodeId> nodes, const Camera& camera) {
+    bool added = false;
+    for (const terrain::NodeId& node : nodes) {
+      if (std::find(forcedSplits.begin(), forcedSplits.end(), node) != forcedSplits.end()) continue;
+      if (forcedSplits.size() == kMaxForcedSplits) {  // the oldest goes
+        forcedSplits.erase(forcedSplits.begin());
+        forcedSplitDistances.erase(forcedSplitDistances.begin());
+      }
+      forcedSplits.push_back(node);
+      forcedSplitDistances.push_back(distanceTo(node, camera));
+      added = true;
+    }
+    return added;
+  }
+  void expireForcedSplits(const Camera& camera) {
+    for (std::size_t i = forcedSplits.size(); i-- > 0;) {
+      if (distanceTo(forcedSplits[i], camera) <= 2.0 * forcedSplitDistances[i] + 1.0) continue;
+      forcedSplits.erase(forcedSplits.begin() + std::ptrdiff_t(i));
+      forcedSplitDistances.erase(forcedSplitDistances.begin() + std::ptrdiff_t(i));
+    }
+  }
+
   // Error mode: every node of the cut at tau (culled ones too: their sides feed the dikes).
   void extractForError(const Camera& camera) {
-    for (std::size_t i = 0; i < cut.size(); ++i) {
-      const terrain::BlockLod* lod = lodFor(cut[i].node);
-      cutMeshes[i] = lod ? &meshes.acquire(cut[i].node, *lod, viewFor(*lod, camera)) : nullptr;
+    for (std::size_t i = 0; i < cut.size(); ++i) acquireForError(i, camera);
+  }
+  void acquireForError(std::size_t i, const Camera& camera) {
+    const terrain::BlockLod* lod = lodFor(cut[i].node);
+    cutMeshes[i] = lod ? &meshes.acquire(cut[i].node, *lod, viewFor(*lod, camera)) : nullptr;
+  }
+
+  // Error mode: stitch, check the drawn dike triangles against tau (dike_check.hpp), and
+  // while the check pins block sides, rebuild those blocks and stitch again.
+  DikeCheckResult stitchWithinTolerance(const Camera& camera) {
+    constexpr int kMaxRounds = 16;
+    for (int round = 1;; ++round) {
+      dikes.stitch(cut, cutMeshes);
+      const DikeCheckResult result = dikeCheck.check(camera, options.tauPx, dikes, cut, cutMeshes, meshes);
+      if (dikeCheck.repinned().empty() || round == kMaxRounds) return result;
+      for (const std::uint32_t i : dikeCheck.repinned()) acquireForError(i, camera);
     }
   }
 
@@ -173,22 +232,29 @@ const TerrainFrame& TerrainEngine::update(const Camera& camera) {
   // 1. Select: the cut of the block quadtree for this view. A node's error here is what it
   //    cannot refine (its stride's floor): the view-dependent extraction below holds
   //    everything else within tau.
+  s.expireForcedSplits(camera);
   auto start = Clock::now();
-  terrain::SelectionOptions selection;
-  selection.tolerancePx = s.options.mode == LodMode::PixelError ? s.options.tauPx : 1.0;
-  selection.errorMeasure = terrain::NodeErrorMeasure::Floor;
-  s.quadtree.select(camera, selection, s.selectionScratch, s.cut);
-  s.cutMeshes.assign(s.cut.size(), nullptr);
+  s.select(camera);
   stats.selectMs = millisecondsSince(start);
 
   // 2. LOD per block, from the cache; 3. dikes between them.
   start = Clock::now();
   double dikesMs = 0.0;
   if (s.options.mode == LodMode::PixelError) {
-    s.extractForError(camera);
-    const auto dikesStart = Clock::now();
-    s.dikes.stitch(s.cut, s.cutMeshes);
-    dikesMs = millisecondsSince(dikesStart);
+    // Where the dike check finds coarse dike strips that pins cannot cure, split their nodes
+    // and do the frame again (once: the splits stay, so the next frames start with them).
+    for (int pass = 1;; ++pass) {
+      s.extractForError(camera);
+      const auto dikesStart = Clock::now();
+      const DikeCheckResult check = s.stitchWithinTolerance(camera);
+      dikesMs += millisecondsSince(dikesStart);
+      stats.dikeTrianglesOverTau = check.failing;
+      stats.dikeErrorPx = check.worstPx;
+      if (pass == 4 || !s.forceSplits(s.dikeCheck.splits(), camera)) break;
+      const auto selectStart = Clock::now();
+      s.select(camera);
+      stats.selectMs += millisecondsSince(selectStart);
+    }
   } else {
     // The dikes count inside the budget: give the blocks what last frame's dikes left, then
     // correct (up to three times) while the frame misses 0.95P..P.

@@ -66,6 +66,7 @@ enum class LodOutcome : std::uint8_t {
   RebuiltNeedlesslyFine,   // within tau, but far finer than the new view needs
   RebuiltChanged,          // built for the other mode (view / count), another footprint, or
                            // a count target outside the hysteresis
+  RebuiltPinned,           // side vertices were pinned since it was built (pin())
   RebuiltUncached,         // caching is disabled
 };
 
@@ -79,6 +80,7 @@ struct LodCacheCounters {
   std::uint64_t tooCoarse = 0;       // RebuiltTooCoarse
   std::uint64_t needlesslyFine = 0;  // RebuiltNeedlesslyFine
   std::uint64_t changed = 0;         // RebuiltChanged
+  std::uint64_t pinned = 0;          // RebuiltPinned
   std::uint64_t uncached = 0;        // RebuiltUncached
   std::uint64_t evictions = 0;       // blocks dropped to stay within the budget
 };
@@ -112,6 +114,13 @@ class LodCache {
   // target stays within the hysteresis (LodCacheOptions::countHysteresis).
   const terrain::BlockMesh& acquireCount(terrain::NodeId node, const terrain::BlockLod& lod,
                                          std::size_t targetTriangles, LodOutcome* outcome = nullptr);
+
+  // Pins side positions from..to (inclusive) of `node`'s mesh (terrain::BoundaryPins): the
+  // next acquire rebuilds it keeping them, and later ones keep them until the camera has
+  // receded enough for a needlessly-fine rebuild, which drops them. false when nothing new
+  // was pinned or the node is not cached. Pins do not apply to acquireCount.
+  bool pin(terrain::NodeId node, terrain::BlockEdge side, int from, int to);
+  const terrain::BoundaryPins* pins(terrain::NodeId node) const;  // nullptr when not cached
 
   // The cached mesh of `node`, or nullptr; does not count as a use.
   const terrain::BlockMesh* find(terrain::NodeId node) const;

@@ -55,6 +55,10 @@ struct TerrainFrameStats {
   std::uint64_t cacheLookups = 0;  // this frame
   std::uint64_t cacheHits = 0;
   std::uint64_t cacheRebuilds = 0;
+  // Error mode's dike check (dike_check.hpp): the largest projected error of a drawn dike
+  // triangle (an upper bound, pixels) and how many drawn dike triangles stay over tau.
+  double dikeErrorPx = 0.0;
+  std::size_t dikeTrianglesOverTau = 0;
   std::size_t triangles() const { return blockTriangles + dikeTriangles; }
 };
 

@@ -3,7 +3,9 @@
 // grid coordinates, so a cached mesh stays valid wherever the camera goes.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <bitset>
 #include <cassert>
 #include <cstddef>
 #include <cstdint>
@@ -78,6 +80,34 @@ struct BlockMesh {
     for (auto& side : edges) side.clear();
     maxError = 0.0f;
   }
+};
+
+// Side vertices a mesh must keep whatever its level of detail (BlockLod::extractView): the
+// frame pins them where the dike beside the block would otherwise exceed the tolerance
+// (the engine's dike check). Per side (BlockEdge), by position along the side: i on South
+// and North, j on West and East, 0..2^k.
+struct BoundaryPins {
+  static constexpr int kMaxPositions = 257;  // 2^8 + 1: blocks up to kRtinMaxK
+
+  std::array<std::bitset<kMaxPositions>, 4> sides;
+
+  bool any() const { return sides[0].any() || sides[1].any() || sides[2].any() || sides[3].any(); }
+  bool pinned(BlockEdge side, int position) const { return sides[std::size_t(side)][std::size_t(position)]; }
+  // Pins positions from..to (inclusive, clamped to the side); true when one was not pinned yet.
+  bool pin(BlockEdge side, int from, int to) {
+    from = std::max(from, 0);
+    to = std::min(to, kMaxPositions - 1);
+    bool added = false;
+    for (int p = from; p <= to; ++p) {
+      added |= !sides[std::size_t(side)][std::size_t(p)];
+      sides[std::size_t(side)][std::size_t(p)] = true;
+    }
+    return added;
+  }
+  void clear() {
+    for (auto& side : sides) side.reset();
+  }
+  friend bool operator==(const BoundaryPins&, const BoundaryPins&) = default;
 };
 
 }  // namespace polder::terrain

@@ -78,6 +78,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -132,6 +133,10 @@ enum class NodeErrorMeasure {
 struct SelectionOptions {
   double tolerancePx = 1.0;  // tau, pixels (> 0)
   NodeErrorMeasure errorMeasure = NodeErrorMeasure::Delta;
+  // Nodes to refine whatever their error or visibility (with their ancestors), where a check
+  // after the selection found that drawing them breaks the tolerance (the engine's dike
+  // check). A short list: each visited node scans it.
+  std::span<const NodeId> forcedSplits;
 };
 
 struct SelectedNode {

@@ -30,7 +30,8 @@
 // coarse side has no vertex in a finer neighbour's range) is a set of polygons bounded by
 // chain pieces, zipper ends and border samples. They are found by walking around each
 // interior's boundary in order, jumping across zippers, and triangulated by ear clipping that
-// takes the shortest valid diagonal first and rejects zero-area ears, so vertices on straight
+// takes the shortest valid diagonal first (of two equally long, the one running north-west to
+// south-east, as the surface cuts its cells) and rejects zero-area ears, so vertices on straight
 // sides stay vertices (no T-junctions). Every interior has a zipper with a node of its
 // parent's other children on a side where their footprints start together, so all interiors
 // and zippers hang together and every junction polygon is simply connected.
@@ -44,7 +45,9 @@
 // diagonal as heightfield.hpp, so such dikes are the full-resolution surface itself.
 //
 // Errors (DESIGN.md "Errors are honest"). dikeTriangleErrors() gives every dike triangle's
-// exact vertical error against the full-resolution surface. dikeErrorBound() is an a-priori
+// exact vertical error against the full-resolution surface; the terrain engine's dike check
+// (engine/terrain_engine/src/dike_check.hpp) holds every drawn one within tau on screen by
+// pinning the blocks' side vertices where needed. dikeErrorBound() is an a-priori
 // bound per quadtree node, independent of every block's LOD and of the neighbours' levels.
 // Each dike triangle has an owner (DikeMesh::owners): for a zipper triangle the coarser of
 // its two nodes, for a junction triangle the coarsest node around its junction polygon. It
@@ -179,7 +182,7 @@ class DikeScratch {
     std::int64_t x = 0, y = 0;
     std::uint32_t vertex = 0;
     std::uint32_t prev = 0, next = 0;
-    std::int64_t diagonal2 = -1;  // squared length of the ear's diagonal, -1 when not an ear
+    std::int64_t diagonal2 = -1;  // rank of the ear's diagonal (by squared length), -1 when not an ear
   };
 
  private:
@@ -216,6 +219,9 @@ Status buildDikes(const BlockLayout& layout, std::span<const DikeBlock> blocks, 
 // value per triangle into `perTriangle` when it is given (resized) and returns the largest.
 // Cost: proportional to the samples under the dikes plus their edges' lengths.
 float dikeTriangleErrors(const Heightfield& field, const DikeMesh& dikes, std::vector<float>* perTriangle = nullptr);
+// The same for one triangle of full-resolution samples (either winding). Cost: the samples
+// under it plus its edges' lengths.
+float dikeTriangleError(const Heightfield& field, const DikeVertex& a, const DikeVertex& b, const DikeVertex& c);
 
 // The samples whose height range bounds every dike triangle a node owns (DikeMesh::owners),
 // whatever the LODs and levels of the frame: the footprints of the node and of its west,

@@ -121,8 +121,10 @@ class RtinScratch {
   void prepare(std::size_t vertexCount);
 
   std::vector<std::uint32_t> m_remap;  // grid vertex -> mesh vertex; all "none" between calls
-  std::vector<std::uint32_t> m_queue;  // count extraction: split candidates, a max-heap by error
-  std::vector<std::uint8_t> m_state;   // count extraction: split parents received, and a split flag
+  std::vector<std::uint32_t> m_queue;  // count extraction: split candidates, a max-heap by error;
+                                       // pinned extraction: the marking stack
+  std::vector<std::uint8_t> m_state;   // count extraction: split parents received, and a split flag;
+                                       // pinned extraction: the marked vertices
 };
 
 // The error hierarchy of one block, built from a Heightfield.
@@ -141,7 +143,11 @@ class BlockLod {
   Status rebuild(const Heightfield& field, const BlockFootprint& footprint);
 
   // (a) View-dependent: the conforming mesh of the vertices active for `view` (see LodView).
-  void extractView(const LodView& view, BlockMesh& out, RtinScratch& scratch) const;
+  // `pins`, when given, adds its side vertices and, to keep the mesh conforming, every vertex
+  // they depend on (the apexes of the triangles they split, recursively): the result is then
+  // the view's mesh refined, so the view's bound still holds. Pins outside a clipped block's
+  // valid rectangle are ignored.
+  void extractView(const LodView& view, BlockMesh& out, RtinScratch& scratch, const BoundaryPins* pins = nullptr) const;
   // (b) Greedy to a triangle count, as ROAM's split queue: repeatedly splits the triangle of
   // largest error together with its hypotenuse neighbour (with monotone errors the forced
   // splits are already done), and stops before the split that would exceed `targetTriangles`
@@ -202,6 +208,8 @@ class BlockLod {
   template <class Active>
   void emit(Active& active, BlockMesh& out, RtinScratch& scratch) const;
   float storedTriangleError(int ax, int ay, int bx, int by, int cx, int cy) const;
+  // Marks (RtinScratch::m_state) the pinned side vertices and every vertex they depend on.
+  void markPinned(const BoundaryPins& pins, RtinScratch& scratch) const;
   // Error of a half cell: cell (ci, cj), side as triangleSide in rtin.cpp.
   float leafError(int ci, int cj, int sideIndex) const;
 
