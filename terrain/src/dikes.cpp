@@ -563,17 +563,20 @@ struct DikeBuilder {
   }
 
   // Zipper between u's east side and the DEM's east border (vertical) or u's north side and
-  // the north border, through every border sample.
+  // the north border, through the border samples at u's stride (its side's own spacing: a
+  // coarse node far away needs no more; where that is too coarse, the engine's dike check
+  // splits the node).
   void zipBorder(std::uint32_t ui, bool vertical) {
     const Node& u = s.m_nodes[ui];
     const std::uint32_t side = vertical ? kEast : kNorth;
     const std::uint32_t count = u.sideCount[side];
     const int lo = vertical ? u.y0 : u.x0, hi = vertical ? u.y1 : u.x1;
-    const std::uint32_t samples = std::uint32_t(hi - lo + 1);
+    const int stride = 1 << u.level;  // hi - lo is a whole number of strides (the interior's side)
+    const std::uint32_t samples = std::uint32_t((hi - lo) / stride + 1);
     s.m_chains.resize(count + samples);
     DikeScratch::ChainPoint* border = s.m_chains.data() + count;
     for (std::uint32_t t = 0; t < samples; ++t) {  // numbered once here, not per triangle
-      const int along = lo + int(t);
+      const int along = lo + int(t) * stride;
       border[t] = DikeScratch::ChainPoint{
           vertical ? borderVertex(width - 1, along, ui) : borderVertex(along, height - 1, ui), along};
     }
