@@ -12,6 +12,8 @@
 #include <cassert>
 #include <utility>
 
+#include <polder/mix_bits.hpp>
+
 namespace polder::cache {
 
 using terrain::BlockLod;
@@ -26,10 +28,7 @@ enum class BuiltFor : std::uint8_t { View, Count, Uncached };
 
 std::uint64_t hashNode(NodeId node) {
   // splitmix64's finaliser over the packed id: neighbouring blocks land far apart.
-  std::uint64_t x = (std::uint64_t(node.bx) << 32 | node.by) ^ (std::uint64_t(node.level) * 0x9e3779b97f4a7c15ull);
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
+  return mixBits((std::uint64_t(node.bx) << 32 | node.by) ^ (std::uint64_t(node.level) * 0x9e3779b97f4a7c15ull));
 }
 
 }  // namespace
@@ -116,8 +115,10 @@ const BlockMesh& LodCache::acquire(NodeId node, const BlockLod& lod, const LodVi
     Slot& slot = *m_slots[index];
     if (!m_options.enabled) {
       result = LodOutcome::RebuiltUncached;
-    } else if (slot.built != BuiltFor::View || !slot.sameBlock(lod)) {
-      if (!slot.sameBlock(lod)) slot.pins.clear();  // pins were for the old data
+    } else if (!slot.sameBlock(lod)) {
+      slot.pins.clear();  // pins were for the old data
+      result = LodOutcome::RebuiltChanged;
+    } else if (slot.built != BuiltFor::View) {
       result = LodOutcome::RebuiltChanged;
     } else if (slot.pinsChanged) {
       result = LodOutcome::RebuiltPinned;

@@ -16,18 +16,14 @@
 #include <optional>
 #include <string>
 
+#include <polder/mix_bits.hpp>
+
 namespace polder::terrain {
 namespace {
 
-std::uint64_t mix64(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 // Independent seeds for the noise layers (and the droplets), derived from the user's seed.
 std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t stream) {
-  return mix64(seed + 0x9e3779b97f4a7c15ULL * (stream + 1));
+  return mixBits(seed + 0x9e3779b97f4a7c15ULL * (stream + 1));
 }
 
 // Sixteen unit gradients at multiples of 22.5 degrees, as literals (no libm at run time).
@@ -40,7 +36,7 @@ constexpr double kGradY[16] = {0.0,         0.38268343,  0.70710678,  0.92387953
 
 double gradientAt(std::int64_t ix, std::int64_t iy, double dx, double dy, std::uint64_t seed) {
   const std::uint64_t h =
-      mix64(seed ^ (std::uint64_t(ix) * 0x9e3779b97f4a7c15ULL) ^ (std::uint64_t(iy) * 0xc2b2ae3d27d4eb4fULL));
+      mixBits(seed ^ (std::uint64_t(ix) * 0x9e3779b97f4a7c15ULL) ^ (std::uint64_t(iy) * 0xc2b2ae3d27d4eb4fULL));
   const unsigned k = unsigned(h >> 60);
   return kGradX[k] * dx + kGradY[k] * dy;
 }

@@ -10,18 +10,12 @@
 #include <random>
 #include <utility>
 
+#include <polder/mix_bits.hpp>
+
 namespace polder::terrain {
 namespace {
 
 constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
-
-std::uint64_t mix(std::uint64_t x) {  // splitmix64's finalizer
-  x ^= x >> 30;
-  x *= 0xbf58476d1ce4e5b9ull;
-  x ^= x >> 27;
-  x *= 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
 
 // Linear probing over a power-of-two table; keys never equal kEmpty.
 template <class Value>
@@ -36,7 +30,7 @@ class HashMap {
   }
   // The value slot of `key`, inserted with `initial` when absent.
   Value& at(std::uint64_t key, const Value& initial, bool* inserted = nullptr) {
-    std::size_t i = mix(key) & m_mask;
+    std::size_t i = mixBits(key) & m_mask;
     while (m_keys[i] != kEmpty && m_keys[i] != key) i = (i + 1) & m_mask;
     if (m_keys[i] == kEmpty) {
       m_keys[i] = key;
@@ -48,7 +42,7 @@ class HashMap {
     return m_values[i];
   }
   const Value* find(std::uint64_t key) const {
-    std::size_t i = mix(key) & m_mask;
+    std::size_t i = mixBits(key) & m_mask;
     while (m_keys[i] != kEmpty) {
       if (m_keys[i] == key) return &m_values[i];
       i = (i + 1) & m_mask;

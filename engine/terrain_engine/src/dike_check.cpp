@@ -56,7 +56,6 @@ DikeCheckResult DikeCheck::check(const Camera& camera, double tauPx, const DikeS
     if (!failing) continue;
     ++result.failing;
     if (pinned) continue;
-    ++result.unresolved;
     // The coarsest node whose footprint the triangle touches: its dike strip holds samples
     // that no side can pin (it need not have a vertex in the triangle). Rare: a scan will do.
     std::size_t coarsest = cut.size();

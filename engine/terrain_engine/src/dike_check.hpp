@@ -45,9 +45,8 @@ namespace polder {
 inline constexpr double kPinHeadroom = 0.1;
 
 struct DikeCheckResult {
-  std::size_t failing = 0;     // drawn dike triangles over tau
-  std::size_t unresolved = 0;  // ... of which pins could not refine any side
-  double worstPx = 0.0;        // the largest projected error of a drawn dike triangle
+  std::size_t failing = 0;  // drawn dike triangles over tau
+  double worstPx = 0.0;     // the largest projected error of a drawn dike triangle
 };
 
 class DikeCheck {
@@ -66,8 +65,6 @@ class DikeCheck {
   // strips are wider than a cell, with samples inside that no side holds, and only finer
   // nodes cure them (SelectionOptions::forcedSplits).
   std::span<const terrain::NodeId> splits() const { return m_splits; }
-
-  std::uint64_t errorsComputed() const { return m_errors.computed(); }
 
  private:
   bool pinAround(std::uint32_t node, int tx0, int ty0, int tx1, int ty1, bool urgent, std::span<const terrain::SelectedNode> cut,

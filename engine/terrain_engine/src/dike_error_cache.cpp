@@ -3,17 +3,11 @@
 #include <algorithm>
 #include <bit>
 
+#include <polder/mix_bits.hpp>
+
 namespace polder {
 
 namespace {
-
-std::uint64_t mix(std::uint64_t h) {  // splitmix64's finaliser
-  h ^= h >> 30;
-  h *= 0xbf58476d1ce4e5b9ull;
-  h ^= h >> 27;
-  h *= 0x94d049bb133111ebull;
-  return h ^ (h >> 31);
-}
 
 std::uint64_t key(const terrain::DikeVertex& v) { return (std::uint64_t(std::uint32_t(v.x)) << 32) | std::uint32_t(v.y); }
 
@@ -34,6 +28,10 @@ void DikeErrorCache::beginPass(std::size_t triangles) {
   m_current.clear();
   m_cursor = 0;
   if (m_current.capacity() < triangles) m_current.reserve(triangles);
+  reserveTable(triangles);
+}
+
+void DikeErrorCache::reserveTable(std::size_t triangles) {
   const std::size_t size = std::bit_ceil(std::max<std::size_t>(4 * triangles, 1024));
   if (size > m_entries.size()) {
     m_entries.assign(size, Entry{});
@@ -67,7 +65,7 @@ const DikeErrorCache::Triangle& DikeErrorCache::lookUp(const terrain::DikeVertex
 
 float DikeErrorCache::rememberedError(const terrain::DikeVertex& a, const terrain::DikeVertex& b,
                                       const terrain::DikeVertex& c) {
-  if (m_entries.empty()) beginPass(0);
+  if (m_entries.empty()) reserveTable(0);
   // One key per triangle whatever vertex it starts at: the least vertex first (the winding,
   // counter-clockwise for every dike triangle, is kept).
   terrain::DikeVertex v[3] = {a, b, c};
@@ -79,7 +77,7 @@ float DikeErrorCache::rememberedError(const terrain::DikeVertex& a, const terrai
   else if (less(v[2], v[0]) && less(v[2], v[1]))
     std::rotate(v, v + 2, v + 3);
   const std::size_t mask = m_entries.size() - 1;
-  const std::size_t home = mix(mix(mix(key(v[0])) ^ key(v[1])) ^ key(v[2])) & mask;
+  const std::size_t home = mixBits(mixBits(mixBits(key(v[0])) ^ key(v[1])) ^ key(v[2])) & mask;
   std::size_t slot = home;
   while (m_entries[slot].error >= 0.0f) {
     const Entry& entry = m_entries[slot];
@@ -87,7 +85,6 @@ float DikeErrorCache::rememberedError(const terrain::DikeVertex& a, const terrai
     slot = (slot + 1) & mask;
   }
   const float error = terrain::dikeTriangleError(m_field, v[0], v[1], v[2]);
-  ++m_computed;
   if (2 * (m_used + 1) > m_entries.size()) {  // half full: forget, keep the memory
     std::fill(m_entries.begin(), m_entries.end(), Entry{});
     m_used = 0;

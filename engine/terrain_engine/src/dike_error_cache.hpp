@@ -33,9 +33,8 @@ class DikeErrorCache {
   // there, else remembered from earlier or computed.
   const Triangle& lookUp(const terrain::DikeVertex& a, const terrain::DikeVertex& b, const terrain::DikeVertex& c);
 
-  std::uint64_t computed() const { return m_computed; }  // triangles whose error was computed
-
  private:
+  void reserveTable(std::size_t triangles);
   float rememberedError(const terrain::DikeVertex& a, const terrain::DikeVertex& b, const terrain::DikeVertex& c);
 
   const terrain::Heightfield& m_field;
@@ -50,7 +49,6 @@ class DikeErrorCache {
   };
   std::vector<Entry> m_entries;
   std::size_t m_used = 0;
-  std::uint64_t m_computed = 0;
 };
 
 }  // namespace polder

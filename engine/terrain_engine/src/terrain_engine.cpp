@@ -242,7 +242,8 @@ const TerrainFrame& TerrainEngine::update(const Camera& camera) {
   double dikesMs = 0.0;
   if (s.options.mode == LodMode::PixelError) {
     // Where the dike check finds coarse dike strips that pins cannot cure, split their nodes
-    // and do the frame again (once: the splits stay, so the next frames start with them).
+    // and do the frame again (at most four passes; the splits stay, so the next frames start
+    // with them).
     for (int pass = 1;; ++pass) {
       s.extractForError(camera);
       const auto dikesStart = Clock::now();
