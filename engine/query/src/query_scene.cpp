@@ -1,5 +1,6 @@
-// Every Embree call in Polder lives in this file (Embree 3 API: RTCIntersectContext,
-// rtcIntersect1/16, rtcOccluded1), so the move to Embree 4 touches only this file.
+// The Embree calls for ray queries live in this file (Embree 3 API: RTCIntersectContext,
+// rtcIntersect1/16, rtcOccluded1), the point queries in closest_point_scene.cpp; a move to
+// Embree 4 touches only these two.
 #include <polder/query/query_scene.hpp>
 
 #include <algorithm>

@@ -66,6 +66,10 @@ struct TerrainEngine::Impl {
   std::vector<terrain::NodeId> forcedSplits;  // SelectionOptions::forcedSplits, reserved
   std::vector<double> forcedSplitDistances;   // camera distance when each was added
   std::size_t lastDikeTriangles = 0;
+  // The frame between beginFrame and finishFrame.
+  Clock::time_point frameStart{};
+  TerrainFrameStats frameStats;
+  cache::LodCacheCounters countersBefore{};
   TerrainFrame frame;
   std::vector<MeshData> blockMeshes;  // frameMeshes() storage, reused
   std::vector<MeshData> dikeTiles;
@@ -223,22 +227,36 @@ TerrainEngine::TerrainEngine(std::unique_ptr<Impl> impl) : m_impl(std::move(impl
 TerrainEngine::~TerrainEngine() = default;
 
 const TerrainFrame& TerrainEngine::update(const Camera& camera) {
+  beginFrame(camera);
+  return finishFrame(camera, m_impl->options.budgetTriangles);
+}
+
+std::span<const lod::RegionDemand> TerrainEngine::beginFrame(const Camera& camera) {
   Impl& s = *m_impl;
-  const auto frameStart = Clock::now();
-  TerrainFrameStats stats;
+  s.frameStart = Clock::now();
+  s.frameStats = TerrainFrameStats{};
   s.meshes.beginFrame();
-  const cache::LodCacheCounters before = s.meshes.counters();
+  s.countersBefore = s.meshes.counters();
 
   // 1. Select: the cut of the block quadtree for this view. A node's error here is what it
   //    cannot refine (its stride's floor): the view-dependent extraction below holds
   //    everything else within tau.
   s.expireForcedSplits(camera);
-  auto start = Clock::now();
+  const auto start = Clock::now();
   s.select(camera);
-  stats.selectMs = millisecondsSince(start);
+  if (s.options.mode == LodMode::TriangleBudget) s.prepareBudget(camera);
+  s.frameStats.selectMs = millisecondsSince(start);
+  if (s.options.mode == LodMode::TriangleBudget) return s.demands;
+  return {};
+}
+
+const TerrainFrame& TerrainEngine::finishFrame(const Camera& camera, std::uint64_t budgetTriangles) {
+  Impl& s = *m_impl;
+  TerrainFrameStats& stats = s.frameStats;
+  const cache::LodCacheCounters before = s.countersBefore;
 
   // 2. LOD per block, from the cache; 3. dikes between them.
-  start = Clock::now();
+  auto start = Clock::now();
   double dikesMs = 0.0;
   if (s.options.mode == LodMode::PixelError) {
     // Where the dike check finds coarse dike strips that pins cannot cure, split their nodes
@@ -259,9 +277,8 @@ const TerrainFrame& TerrainEngine::update(const Camera& camera) {
   } else {
     // The dikes count inside the budget: give the blocks what last frame's dikes left, then
     // correct (up to three times) while the frame misses 0.95P..P.
-    const std::uint64_t budget = s.options.budgetTriangles;
+    const std::uint64_t budget = budgetTriangles;
     std::uint64_t blockBudget = budget > s.lastDikeTriangles ? budget - s.lastDikeTriangles : budget / 2;
-    s.prepareBudget(camera);
     for (int attempt = 0; attempt < 4; ++attempt) {
       s.extractForBudget(blockBudget);
       const auto dikesStart = Clock::now();
@@ -294,7 +311,7 @@ const TerrainFrame& TerrainEngine::update(const Camera& camera) {
   stats.cacheLookups = after.lookups - before.lookups;
   stats.cacheHits = after.hits - before.hits;
   stats.cacheRebuilds = after.rebuilds - before.rebuilds;
-  stats.totalMs = millisecondsSince(frameStart);
+  stats.totalMs = millisecondsSince(s.frameStart);
   s.frame.stats = stats;
   return s.frame;
 }

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include <polder/camera.hpp>
+#include <polder/lod/allocator.hpp>
 #include <polder/mesh_data.hpp>
 #include <polder/result.hpp>
 #include <polder/terrain/block_layout.hpp>
@@ -95,6 +96,14 @@ class TerrainEngine {
   TerrainEngine& operator=(const TerrainEngine&) = delete;
 
   const TerrainFrame& update(const Camera& camera);
+
+  // update() in two halves, for a caller whose allocator splits one budget over the terrain
+  // and other regions (polder::scene): beginFrame selects the cut and, in budget mode,
+  // returns the visible blocks' demands (projected-area weights, triangle ranges);
+  // finishFrame then extracts and stitches within `budgetTriangles` (the terrain's share,
+  // dikes included; ignored in error mode). The span lives until finishFrame.
+  std::span<const lod::RegionDemand> beginFrame(const Camera& camera);
+  const TerrainFrame& finishFrame(const Camera& camera, std::uint64_t budgetTriangles);
 
   // The last frame as world-space meshes (positions relative to per-block or per-tile
   // origins, with normals): for rendering, Embree measurement and export. The storage is

@@ -1,0 +1,59 @@
+// The per-instance LOD cache of a progressive mesh (ASLOD's polygonal cache,
+// seeds/000_b38ee0937017652c.txt, sections 2 and 6): one index buffer per region that
+// moves back and forth in the region's sequence, writing only the corners that change
+// between the old and the new level, plus the region's border lookup table. Several
+// instances of one ProgressiveMesh sit at independent levels; the mesh is shared, read-only.
+//
+// Moving to level k gives the same triangles whatever path led there: every step's
+// changes are undone exactly in reverse.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "polder/mesh/progressive_mesh.hpp"
+
+namespace polder::mesh {
+
+class ProgressiveMeshInstance {
+ public:
+  // Starts at full resolution. `mesh` must outlive the instance.
+  explicit ProgressiveMeshInstance(const ProgressiveMesh& mesh);
+
+  const ProgressiveMesh& mesh() const { return *m_mesh; }
+  std::uint32_t level(std::uint32_t region) const { return m_regions[region].level; }
+
+  // Moves a region to `level` (clamped to its levelCount()); cost proportional to the
+  // corners that change. Regions whose border triangles read this region's table are
+  // refreshed by the next resolveBorders().
+  void setLevel(std::uint32_t region, std::uint32_t level);
+
+  // Points border triangles at their neighbours' current representatives. Call once after
+  // the frame's setLevel calls and before reading indices().
+  void resolveBorders();
+
+  // The region's triangles at its current level (3 indices each into mesh().vertices()).
+  std::span<const std::uint32_t> indices(std::uint32_t region) const;
+  std::uint32_t triangleCount(std::uint32_t region) const;
+  std::uint64_t triangleCount() const;
+  // Number of vertices in use by the region's own level (a prefix of its vertex range).
+  std::uint32_t activeVertexCount(std::uint32_t region) const;
+
+  // Index-buffer and table entries written since construction: the cost measure of moves.
+  std::uint64_t writes() const { return m_writes; }
+
+ private:
+  struct RegionState {
+    std::uint32_t level = 0;
+    std::vector<std::uint32_t> indices;      // full size; the drawn part is a prefix
+    std::vector<std::uint32_t> borderTable;  // current representative of each border vertex
+    bool bordersStale = false;               // a neighbour this region reads has moved
+  };
+  const ProgressiveMesh* m_mesh;
+  std::vector<RegionState> m_regions;
+  std::vector<std::vector<std::uint32_t>> m_readers;  // per region: regions reading its table
+  std::uint64_t m_writes = 0;
+};
+
+}  // namespace polder::mesh

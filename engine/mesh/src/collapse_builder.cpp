@@ -1,0 +1,390 @@
+#include "polder/mesh/collapse_builder.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "quadric.hpp"
+
+namespace polder::mesh {
+
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+constexpr int kMaxAttributes = 8;  // normal 3 + colour 3 + uv 2
+
+enum class VertexKind : std::uint8_t {
+  Interior,  // its fan is one closed disk
+  Border,    // its fan is one open disk: it may only slide along its boundary edges
+  Locked,    // non-manifold or isolated: never removed
+};
+
+struct HeapEntry {
+  float cost;
+  std::uint32_t vertex;
+  std::uint32_t version;
+  bool operator>(const HeapEntry& o) const { return cost > o.cost; }
+};
+
+// A neighbour of the vertex being examined and how many of its live triangles share the edge.
+struct Neighbour {
+  std::uint32_t vertex;
+  std::uint32_t sharedTriangles;
+};
+
+class CollapseBuilder {
+ public:
+  CollapseBuilder(const TriangleMesh& mesh, const RegionPartition& partition, const CollapseOptions& options)
+      : m_mesh(mesh), m_partition(partition), m_options(options) {}
+
+  SimplificationSteps run() {
+    setUp();
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) updateCandidate(v);
+    const std::size_t reportEvery = std::max<std::size_t>(1, m_vertexCount / 64);
+    SimplificationSteps steps;
+    steps.representative.reserve(m_vertexCount);
+    steps.removed.reserve(m_vertexCount);
+    steps.removedBegin.reserve(m_vertexCount + 1);
+    steps.error.reserve(m_vertexCount);
+    while (!m_heap.empty() && m_liveTriangles > m_options.stopAtTriangles) {
+      std::pop_heap(m_heap.begin(), m_heap.end(), std::greater<>());
+      const HeapEntry entry = m_heap.back();
+      m_heap.pop_back();
+      const std::uint32_t v = entry.vertex;
+      if (entry.version != m_version[v] || !m_alive[v] || m_target[v] == kNone) continue;
+      const std::uint32_t u = m_target[v];
+      // The neighbourhood may have changed since the candidate was chosen.
+      if (!m_alive[u] || !collapseIsValid(v, u)) {
+        updateCandidate(v);
+        continue;
+      }
+      collapse(v, u);
+      const std::uint32_t removed[1] = {v};
+      steps.add(u, removed, clusterError(u));
+      if (m_options.progress && steps.size() % reportEvery == 0)
+        m_options.progress(double(steps.size()) / double(m_vertexCount));
+    }
+    return steps;
+  }
+
+ private:
+  void setUp() {
+    m_vertexCount = static_cast<std::uint32_t>(m_mesh.vertexCount());
+    const double diagonal = boundingBoxDiagonal(m_mesh.positions);
+    m_diagonal = diagonal > 0.0 ? diagonal : 1.0;
+    glm::dvec3 lo(m_mesh.positions.empty() ? glm::vec3(0.0f) : m_mesh.positions.front());
+    for (const glm::vec3& p : m_mesh.positions) lo = glm::min(lo, glm::dvec3(p));
+    m_position.resize(m_vertexCount);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v)
+      m_position[v] = (glm::dvec3(m_mesh.positions[v]) - lo) / m_diagonal;
+
+    // Live triangles (degenerate input ones are skipped) and fans.
+    const std::size_t inputTriangles = m_mesh.triangleCount();
+    m_corner.reserve(3 * inputTriangles);
+    std::vector<std::uint32_t> fanSize(m_vertexCount, 0);
+    for (std::size_t t = 0; t < inputTriangles; ++t) {
+      const std::uint32_t a = m_mesh.indices[3 * t], b = m_mesh.indices[3 * t + 1], c = m_mesh.indices[3 * t + 2];
+      if (a == b || b == c || a == c) continue;
+      m_corner.insert(m_corner.end(), {a, b, c});
+      ++fanSize[a], ++fanSize[b], ++fanSize[c];
+    }
+    const auto triangleCount = static_cast<std::uint32_t>(m_corner.size() / 3);
+    m_liveTriangles = triangleCount;
+    m_triangleAlive.assign(triangleCount, 1);
+    m_fan.resize(m_vertexCount);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) m_fan[v].reserve(fanSize[v]);
+    for (std::uint32_t t = 0; t < triangleCount; ++t)
+      for (int k = 0; k < 3; ++k) m_fan[m_corner[3 * t + k]].push_back(t);
+
+    setUpAttributes();
+    m_quadric.assign(m_vertexCount, Quadric{});
+    for (std::uint32_t t = 0; t < triangleCount; ++t) addTriangleQuadric(t);
+    m_alive.assign(m_vertexCount, 1);
+    m_kind.assign(m_vertexCount, VertexKind::Interior);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) classify(v);
+    m_target.assign(m_vertexCount, kNone);
+    m_version.assign(m_vertexCount, 0);
+    m_markA.assign(m_vertexCount, 0);
+    m_markB.assign(m_vertexCount, 0);
+    m_heap.reserve(2 * m_vertexCount);
+  }
+
+  void setUpAttributes() {
+    m_dims = 0;
+    auto addDims = [&](int count, double weight, bool present) {
+      if (!present || weight <= 0.0) return -1;
+      const int first = m_dims;
+      m_dims += count;
+      m_attributeWeights.insert(m_attributeWeights.end(), count, weight);
+      return first;
+    };
+    const int normalAt = addDims(3, m_options.normalWeight, m_mesh.hasNormals());
+    const int colourAt = addDims(3, m_options.colourWeight, m_mesh.hasColours());
+    const int uvAt = addDims(2, m_options.uvWeight, m_mesh.hasUvs());
+    if (m_dims == 0) return;
+    m_attribute.assign(std::size_t(m_vertexCount) * m_dims, 0.0);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
+      double* a = &m_attribute[std::size_t(v) * m_dims];
+      for (int k = 0; normalAt >= 0 && k < 3; ++k) a[normalAt + k] = m_mesh.normals[v][k];
+      for (int k = 0; colourAt >= 0 && k < 3; ++k) a[colourAt + k] = m_mesh.colours[v][k];
+      for (int k = 0; uvAt >= 0 && k < 2; ++k) a[uvAt + k] = m_mesh.uvs[v][k];
+      for (int k = 0; k < m_dims; ++k) a[k] *= m_attributeWeights[k];
+    }
+    // Moments of each cluster's attributes, weighted by a third of the incident areas.
+    m_moment0.assign(m_vertexCount, 0.0);
+    m_moment1.assign(std::size_t(m_vertexCount) * m_dims, 0.0);
+    m_moment2.assign(m_vertexCount, 0.0);
+    for (std::uint32_t t = 0; t < m_corner.size() / 3; ++t) {
+      const double third = triangleArea(t) / 3.0;
+      for (int k = 0; k < 3; ++k) m_moment0[m_corner[3 * t + k]] += third;
+    }
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
+      const double* a = &m_attribute[std::size_t(v) * m_dims];
+      double squared = 0.0;
+      for (int k = 0; k < m_dims; ++k) {
+        m_moment1[std::size_t(v) * m_dims + k] = m_moment0[v] * a[k];
+        squared += a[k] * a[k];
+      }
+      m_moment2[v] = m_moment0[v] * squared;
+    }
+  }
+
+  double triangleArea(std::uint32_t t) const {
+    const glm::dvec3& a = m_position[m_corner[3 * t]];
+    return 0.5 * glm::length(glm::cross(m_position[m_corner[3 * t + 1]] - a, m_position[m_corner[3 * t + 2]] - a));
+  }
+
+  void addTriangleQuadric(std::uint32_t t) {
+    const glm::dvec3& a = m_position[m_corner[3 * t]];
+    const glm::dvec3 cross = glm::cross(m_position[m_corner[3 * t + 1]] - a, m_position[m_corner[3 * t + 2]] - a);
+    const double length = glm::length(cross);
+    if (length <= 0.0) return;
+    const glm::dvec3 n = cross / length;
+    Quadric q;
+    q.addPlane(n, -glm::dot(n, a), 0.5 * length);
+    for (int k = 0; k < 3; ++k) m_quadric[m_corner[3 * t + k]] += q;
+  }
+
+  // Gathers v's live triangles (dropping dead ones from its fan) and its neighbours with
+  // the number of live triangles on each edge.
+  void gatherNeighbours(std::uint32_t v, std::vector<Neighbour>& out) {
+    out.clear();
+    std::vector<std::uint32_t>& fan = m_fan[v];
+    std::size_t kept = 0;
+    for (std::uint32_t t : fan) {
+      if (!m_triangleAlive[t]) continue;
+      fan[kept++] = t;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t x = m_corner[3 * t + k];
+        if (x == v) continue;
+        auto it = std::find_if(out.begin(), out.end(), [x](const Neighbour& n) { return n.vertex == x; });
+        if (it == out.end()) out.push_back({x, 1});
+        else ++it->sharedTriangles;
+      }
+    }
+    fan.resize(kept);
+  }
+
+  void classify(std::uint32_t v) {
+    gatherNeighbours(v, m_neighbours);
+    const std::size_t triangles = m_fan[v].size();
+    std::size_t borderEdges = 0;
+    bool nonManifold = triangles == 0;
+    for (const Neighbour& n : m_neighbours) {
+      if (n.sharedTriangles > 2) nonManifold = true;
+      if (n.sharedTriangles == 1) ++borderEdges;
+    }
+    // One disk: a closed fan has as many neighbours as triangles, an open one a boundary
+    // pair and one more neighbour. Anything else (bow-ties, fins) stays put.
+    if (nonManifold) m_kind[v] = VertexKind::Locked;
+    else if (borderEdges == 0 && m_neighbours.size() == triangles) m_kind[v] = VertexKind::Interior;
+    else if (borderEdges == 2 && m_neighbours.size() == triangles + 1) m_kind[v] = VertexKind::Border;
+    else m_kind[v] = VertexKind::Locked;
+    if (m_kind[v] == VertexKind::Border) addBoundaryPlanes(v);
+  }
+
+  // Planes through v's boundary edges, perpendicular to their triangle, keep the outline.
+  void addBoundaryPlanes(std::uint32_t v) {
+    for (std::uint32_t t : m_fan[v]) {
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = m_corner[3 * t + k], b = m_corner[3 * t + (k + 1) % 3];
+        if (a != v) continue;  // each boundary edge is added once, from its first vertex
+        const auto shared = std::find_if(m_neighbours.begin(), m_neighbours.end(),
+                                         [b](const Neighbour& n) { return n.vertex == b; });
+        if (shared == m_neighbours.end() || shared->sharedTriangles != 1) continue;
+        const glm::dvec3 edge = m_position[b] - m_position[a];
+        const glm::dvec3 faceNormal = glm::cross(edge, m_position[m_corner[3 * t + (k + 2) % 3]] - m_position[a]);
+        const glm::dvec3 planeNormal = glm::cross(edge, faceNormal);
+        const double length = glm::length(planeNormal);
+        if (length <= 0.0) continue;
+        const glm::dvec3 n = planeNormal / length;
+        Quadric q;
+        q.addPlane(n, -glm::dot(n, m_position[a]), m_options.boundaryWeight * glm::dot(edge, edge));
+        q.weight = 0.0;  // the outline's planes do not dilute the mean surface error
+        m_quadric[a] += q;
+        m_quadric[b] += q;
+      }
+    }
+  }
+
+  double attributeCost(std::uint32_t v, std::uint32_t u) const {
+    if (m_dims == 0) return 0.0;
+    const double* a = &m_attribute[std::size_t(u) * m_dims];
+    const double* s1 = &m_moment1[std::size_t(v) * m_dims];
+    double squared = 0.0, dot = 0.0;
+    for (int k = 0; k < m_dims; ++k) {
+      squared += a[k] * a[k];
+      dot += a[k] * s1[k];
+    }
+    return std::max(0.0, m_moment0[v] * squared - 2.0 * dot + m_moment2[v]);
+  }
+
+  float clusterError(std::uint32_t u) const {
+    const Quadric& q = m_quadric[u];
+    if (q.weight <= 0.0) return 0.0f;
+    return static_cast<float>(std::sqrt(q.evaluate(m_position[u]) / q.weight) * m_diagonal);
+  }
+
+  void updateCandidate(std::uint32_t v) {
+    ++m_version[v];
+    m_target[v] = kNone;
+    if (!m_alive[v] || m_kind[v] == VertexKind::Locked) return;
+    gatherNeighbours(v, m_neighbours);
+    const std::uint32_t region = m_partition.regionOf(v);
+    m_options_scratch.clear();
+    for (const Neighbour& n : m_neighbours) {
+      if (m_partition.regionOf(n.vertex) != region) continue;
+      if (m_kind[v] == VertexKind::Border && n.sharedTriangles != 1) continue;
+      const double cost = m_quadric[v].evaluate(m_position[n.vertex]) + attributeCost(v, n.vertex);
+      m_options_scratch.push_back({static_cast<float>(cost), n.vertex, 0});
+    }
+    std::sort(m_options_scratch.begin(), m_options_scratch.end(),
+              [](const HeapEntry& x, const HeapEntry& y) { return x.cost < y.cost; });
+    for (const HeapEntry& option : m_options_scratch) {
+      if (!collapseIsValid(v, option.vertex)) continue;
+      m_target[v] = option.vertex;
+      m_heap.push_back({option.cost, v, m_version[v]});
+      std::push_heap(m_heap.begin(), m_heap.end(), std::greater<>());
+      return;
+    }
+  }
+
+  // Link condition and normal check for moving v onto its neighbour u.
+  bool collapseIsValid(std::uint32_t v, std::uint32_t u) {
+    // Neighbours of v, and how many live triangles hold both v and u.
+    ++m_stamp;
+    std::uint32_t edgeTriangles = 0, fanV = 0, fanU = 0;
+    for (std::uint32_t t : m_fan[v]) {
+      if (!m_triangleAlive[t]) continue;
+      ++fanV;
+      bool hasU = false;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t x = m_corner[3 * t + k];
+        m_markA[x] = m_stamp;
+        hasU |= x == u;
+      }
+      if (hasU) {
+        ++edgeTriangles;
+        continue;
+      }
+      // The triangle keeps existing with u in v's place: it must not flip or collapse.
+      glm::dvec3 p[3], q[3];
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t x = m_corner[3 * t + k];
+        p[k] = m_position[x];
+        q[k] = x == v ? m_position[u] : p[k];
+      }
+      const glm::dvec3 before = glm::cross(p[1] - p[0], p[2] - p[0]);
+      const glm::dvec3 after = glm::cross(q[1] - q[0], q[2] - q[0]);
+      const double lengths = glm::length(before) * glm::length(after);
+      if (!(glm::dot(before, after) > m_options.minNormalCosine * lengths)) return false;
+    }
+    if (edgeTriangles == 0) return false;
+    // Common neighbours of v and u must be exactly the apexes of the edge's triangles.
+    std::uint32_t common = 0;
+    for (std::uint32_t t : m_fan[u]) {
+      if (!m_triangleAlive[t]) continue;
+      ++fanU;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t x = m_corner[3 * t + k];
+        if (x == u || x == v || m_markB[x] == m_stamp) continue;
+        m_markB[x] = m_stamp;
+        if (m_markA[x] == m_stamp) ++common;
+      }
+    }
+    // Never let a piece of surface vanish whole (its last triangles are the edge's own).
+    if (fanV == edgeTriangles && fanU == edgeTriangles) return false;
+    return common == edgeTriangles;
+  }
+
+  void collapse(std::uint32_t v, std::uint32_t u) {
+    for (std::uint32_t t : m_fan[v]) {
+      if (!m_triangleAlive[t]) continue;
+      std::uint32_t* c = &m_corner[3 * t];
+      if (c[0] == u || c[1] == u || c[2] == u) {
+        m_triangleAlive[t] = 0;
+        --m_liveTriangles;
+        continue;
+      }
+      for (int k = 0; k < 3; ++k)
+        if (c[k] == v) c[k] = u;
+      m_fan[u].push_back(t);
+    }
+    std::vector<std::uint32_t>().swap(m_fan[v]);
+    m_alive[v] = 0;
+    m_quadric[u] += m_quadric[v];
+    if (m_dims > 0) {
+      m_moment0[u] += m_moment0[v];
+      m_moment2[u] += m_moment2[v];
+      for (int k = 0; k < m_dims; ++k) m_moment1[std::size_t(u) * m_dims + k] += m_moment1[std::size_t(v) * m_dims + k];
+    }
+    ++m_version[v];
+    // u and its ring see changed quadrics, fans and links.
+    gatherNeighbours(u, m_ring);
+    updateCandidate(u);
+    for (std::size_t i = 0; i < m_ring.size(); ++i) updateCandidate(m_ring[i].vertex);
+  }
+
+  const TriangleMesh& m_mesh;
+  const RegionPartition& m_partition;
+  const CollapseOptions& m_options;
+  std::uint32_t m_vertexCount = 0;
+  double m_diagonal = 1.0;
+  std::vector<glm::dvec3> m_position;  // translated and scaled to a unit diagonal
+  std::vector<std::uint32_t> m_corner;
+  std::vector<std::uint8_t> m_triangleAlive;
+  std::uint32_t m_liveTriangles = 0;
+  std::vector<std::vector<std::uint32_t>> m_fan;
+  std::vector<Quadric> m_quadric;
+  int m_dims = 0;
+  std::vector<double> m_attributeWeights;
+  std::vector<double> m_attribute;  // per vertex, m_dims weighted values
+  std::vector<double> m_moment0, m_moment1, m_moment2;
+  std::vector<std::uint8_t> m_alive;
+  std::vector<VertexKind> m_kind;
+  std::vector<std::uint32_t> m_target;
+  std::vector<std::uint32_t> m_version;
+  std::vector<std::uint32_t> m_markA, m_markB;
+  std::uint32_t m_stamp = 0;
+  std::vector<HeapEntry> m_heap;
+  std::vector<Neighbour> m_neighbours, m_ring;
+  std::vector<HeapEntry> m_options_scratch;
+};
+
+}  // namespace
+
+Result<SimplificationSteps> buildCollapseSteps(const TriangleMesh& mesh, const RegionPartition& partition,
+                                               const CollapseOptions& options) {
+  if (Status s = validateMesh(mesh, "collapse builder input"); !s) return s.error();
+  if (Status s = validatePartition(partition, mesh.vertexCount(), "collapse builder regions"); !s) return s.error();
+  if (!(options.minNormalCosine >= -1.0 && options.minNormalCosine < 1.0))
+    return makeError(ErrorKind::InvalidArgument, "collapse builder: minNormalCosine must lie in [-1, 1)");
+  if (!(options.normalWeight >= 0.0) || !(options.colourWeight >= 0.0) || !(options.uvWeight >= 0.0) ||
+      !(options.boundaryWeight >= 0.0))
+    return makeError(ErrorKind::InvalidArgument, "collapse builder: weights must be finite and >= 0");
+  return CollapseBuilder(mesh, partition, options).run();
+}
+
+}  // namespace polder::mesh

@@ -1,0 +1,327 @@
+#include "polder/mesh/progressive_mesh.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <numeric>
+#include <string>
+
+namespace polder::mesh {
+
+namespace {
+
+constexpr std::uint32_t kNever = std::numeric_limits<std::uint32_t>::max();
+
+template <class T>
+std::size_t bytesOf(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+}  // namespace
+
+std::uint32_t RegionSequence::levelForTriangles(std::uint32_t triangles) const {
+  // trianglesAt grows with the level: find the last level whose count fits.
+  std::uint32_t lo = 0, hi = levelCount();
+  if (trianglesAt(0) > triangles) return 0;
+  while (lo < hi) {
+    const std::uint32_t mid = lo + (hi - lo + 1) / 2;
+    if (trianglesAt(mid) <= triangles) lo = mid;
+    else hi = mid - 1;
+  }
+  return lo;
+}
+
+std::uint32_t RegionSequence::levelForError(float error) const {
+  // errorAt shrinks as the level grows: find the first level whose error fits.
+  std::uint32_t lo = 0, hi = levelCount();
+  while (lo < hi) {
+    const std::uint32_t mid = lo + (hi - lo) / 2;
+    if (errorAt(mid) <= error) hi = mid;
+    else lo = mid + 1;
+  }
+  return lo;
+}
+
+std::size_t RegionSequence::memoryBytes() const {
+  return bytesOf(m_trianglesAfterSteps) + bytesOf(m_verticesAfterSteps) + bytesOf(m_errorAfterSteps) +
+         bytesOf(m_fullIndices) + bytesOf(m_foreignCorners) + bytesOf(m_borderVertices) + bytesOf(m_cornerChangeBegin) +
+         bytesOf(m_cornerChanges) + bytesOf(m_borderChangeBegin) + bytesOf(m_borderChanges);
+}
+
+std::size_t ProgressiveMesh::memoryBytes() const {
+  std::size_t bytes = bytesOf(m_vertices.positions) + bytesOf(m_vertices.normals) + bytesOf(m_vertices.colours) +
+                      bytesOf(m_vertices.uvs) + bytesOf(m_vertices.indices) + bytesOf(m_originalVertex) +
+                      bytesOf(m_vertexRegion);
+  for (const RegionSequence& r : m_regions) bytes += r.memoryBytes();
+  return bytes;
+}
+
+// Replays the steps over the triangles once, region by region, recording when each
+// triangle vanishes and which corners and border-table entries change at each step.
+class ProgressiveMeshAssembler {
+ public:
+  ProgressiveMeshAssembler(const TriangleMesh& mesh, const RegionPartition& partition, const SimplificationSteps& steps)
+      : m_mesh(mesh), m_partition(partition), m_steps(steps) {}
+
+  Result<ProgressiveMesh> run() {
+    if (Status s = validateMesh(m_mesh, "progressive mesh input"); !s) return s.error();
+    if (Status s = validatePartition(m_partition, m_mesh.vertexCount(), "progressive mesh regions"); !s)
+      return s.error();
+    if (Status s = checkSteps(); !s) return s.error();
+    collectTriangles();
+    replaySteps();
+    return emit();
+  }
+
+ private:
+  struct RecordedChange {
+    std::uint32_t triangle, corner, before, after;
+  };
+
+  Status checkSteps() {
+    const std::size_t vertexCount = m_mesh.vertexCount();
+    if (m_steps.removedBegin.size() != m_steps.size() + 1 || m_steps.error.size() != m_steps.size() ||
+        m_steps.removedBegin.back() != m_steps.removed.size())
+      return makeError(ErrorKind::InvalidArgument, "simplification steps: inconsistent array sizes");
+    m_removalStep.assign(vertexCount, kNever);
+    m_localStep.resize(m_steps.size());
+    m_regionStepCount.assign(m_partition.regionCount, 0);
+    for (std::size_t s = 0; s < m_steps.size(); ++s) {
+      const std::uint32_t rep = m_steps.representative[s];
+      const std::string where = "simplification step " + std::to_string(s);
+      if (rep >= vertexCount) return makeError(ErrorKind::InvalidArgument, where + ": representative out of range");
+      if (m_removalStep[rep] != kNever)
+        return makeError(ErrorKind::InvalidArgument, where + ": representative " + std::to_string(rep) + " was removed");
+      const std::uint32_t region = m_partition.regionOf(rep);
+      for (std::uint32_t v : m_steps.removedBy(s)) {
+        if (v >= vertexCount) return makeError(ErrorKind::InvalidArgument, where + ": vertex out of range");
+        if (v == rep || m_removalStep[v] != kNever)
+          return makeError(ErrorKind::InvalidArgument, where + ": vertex " + std::to_string(v) + " is not active");
+        if (m_partition.regionOf(v) != region)
+          return makeError(ErrorKind::InvalidArgument, where + ": joins vertices of two regions");
+        m_removalStep[v] = static_cast<std::uint32_t>(s);
+      }
+      m_localStep[s] = m_regionStepCount[region]++;
+    }
+    return {};
+  }
+
+  void collectTriangles() {
+    const std::size_t triangleCount = m_mesh.triangleCount();
+    m_corners.reserve(triangleCount * 3);
+    for (std::size_t t = 0; t < triangleCount; ++t) {
+      const std::uint32_t a = m_mesh.indices[3 * t], b = m_mesh.indices[3 * t + 1], c = m_mesh.indices[3 * t + 2];
+      if (a == b || b == c || a == c) continue;
+      m_corners.insert(m_corners.end(), {a, b, c});
+      m_owner.push_back(triangleRegion(m_partition, a, b, c));
+    }
+    m_originalCorners = m_corners;
+    m_vanishStep.assign(m_owner.size(), kNever);
+    // Own corners per vertex; border-table entries for vertices that foreign triangles use.
+    m_cornersOf.assign(m_mesh.vertexCount(), {});
+    m_entryOf.assign(m_mesh.vertexCount(), kNever);
+    m_entriesValued.assign(m_mesh.vertexCount(), {});
+    m_borderVertices.assign(m_partition.regionCount, {});
+    for (std::uint32_t k = 0; k < m_corners.size(); ++k) {
+      const std::uint32_t v = m_corners[k];
+      const std::uint32_t region = m_partition.regionOf(v);
+      if (region == m_owner[k / 3]) {
+        m_cornersOf[v].push_back(k);
+      } else if (m_entryOf[v] == kNever) {
+        m_entryOf[v] = static_cast<std::uint32_t>(m_borderVertices[region].size());
+        m_borderVertices[region].push_back(v);
+        m_entriesValued[v].push_back(m_entryOf[v]);
+      }
+    }
+  }
+
+  void replaySteps() {
+    m_recorded.resize(m_partition.regionCount);
+    m_recordedBegin.assign(m_partition.regionCount, {0});
+    m_borderRecorded.resize(m_partition.regionCount);
+    m_borderRecordedBegin.assign(m_partition.regionCount, {0});
+    std::vector<std::uint32_t> dyingNow;
+    for (std::size_t s = 0; s < m_steps.size(); ++s) {
+      const std::uint32_t rep = m_steps.representative[s];
+      const std::uint32_t region = m_partition.regionOf(rep);
+      const std::uint32_t local = m_localStep[s];
+      std::vector<RecordedChange>& changes = m_recorded[region];
+      const std::size_t changesBefore = changes.size();
+      dyingNow.clear();
+      for (std::uint32_t v : m_steps.removedBy(s)) {
+        for (std::uint32_t k : m_cornersOf[v]) {
+          const std::uint32_t t = k / 3;
+          if (m_vanishStep[t] != kNever && m_vanishStep[t] != local) continue;  // vanished earlier
+          m_corners[k] = rep;
+          if (m_vanishStep[t] == kNever) {
+            changes.push_back({t, k % 3, v, rep});
+            if (isDegenerate(t)) {
+              m_vanishStep[t] = local;
+              dyingNow.push_back(t);
+            }
+          }
+          m_cornersOf[rep].push_back(k);
+        }
+        std::vector<std::uint32_t>().swap(m_cornersOf[v]);
+        for (std::uint32_t entry : m_entriesValued[v]) {
+          m_borderRecorded[region].push_back({entry, 0, v, rep});
+          m_entriesValued[rep].push_back(entry);
+        }
+        std::vector<std::uint32_t>().swap(m_entriesValued[v]);
+      }
+      // A triangle that vanishes in this step leaves the drawn prefix; its corners need no change.
+      if (!dyingNow.empty()) {
+        auto kept = std::remove_if(changes.begin() + static_cast<std::ptrdiff_t>(changesBefore), changes.end(),
+                                   [&](const RecordedChange& c) { return m_vanishStep[c.triangle] == local; });
+        changes.erase(kept, changes.end());
+      }
+      // Drop corners of vanished triangles from the representative's list now and then.
+      std::vector<std::uint32_t>& repCorners = m_cornersOf[rep];
+      if (repCorners.size() > 64) {
+        std::erase_if(repCorners, [&](std::uint32_t k) { return m_vanishStep[k / 3] != kNever; });
+      }
+      m_recordedBegin[region].push_back(static_cast<std::uint32_t>(changes.size()));
+      m_borderRecordedBegin[region].push_back(static_cast<std::uint32_t>(m_borderRecorded[region].size()));
+    }
+  }
+
+  bool isDegenerate(std::uint32_t t) const {
+    const std::uint32_t a = m_corners[3 * t], b = m_corners[3 * t + 1], c = m_corners[3 * t + 2];
+    return a == b || b == c || a == c;
+  }
+
+  ProgressiveMesh emit() {
+    ProgressiveMesh out;
+    const std::uint32_t regionCount = m_partition.regionCount;
+    const std::size_t vertexCount = m_mesh.vertexCount();
+    out.m_stepCount = m_steps.size();
+
+    // Vertex order: by region, then the vertices removed last first.
+    std::vector<std::uint32_t> order(vertexCount);
+    std::iota(order.begin(), order.end(), 0u);
+    auto removalKey = [&](std::uint32_t v) { return m_removalStep[v] == kNever ? kNever : m_localStep[m_removalStep[v]]; };
+    std::stable_sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
+      const std::uint32_t rx = m_partition.regionOf(x), ry = m_partition.regionOf(y);
+      if (rx != ry) return rx < ry;
+      return removalKey(x) > removalKey(y);
+    });
+    std::vector<std::uint32_t> newIndex(vertexCount);
+    for (std::uint32_t i = 0; i < vertexCount; ++i) newIndex[order[i]] = i;
+    out.m_originalVertex = order;
+    out.m_vertexRegion.resize(vertexCount);
+    out.m_vertices.positions.resize(vertexCount);
+    if (m_mesh.hasNormals()) out.m_vertices.normals.resize(vertexCount);
+    if (m_mesh.hasColours()) out.m_vertices.colours.resize(vertexCount);
+    if (m_mesh.hasUvs()) out.m_vertices.uvs.resize(vertexCount);
+    for (std::uint32_t i = 0; i < vertexCount; ++i) {
+      const std::uint32_t v = order[i];
+      out.m_vertexRegion[i] = m_partition.regionOf(v);
+      out.m_vertices.positions[i] = m_mesh.positions[v];
+      if (m_mesh.hasNormals()) out.m_vertices.normals[i] = m_mesh.normals[v];
+      if (m_mesh.hasColours()) out.m_vertices.colours[i] = m_mesh.colours[v];
+      if (m_mesh.hasUvs()) out.m_vertices.uvs[i] = m_mesh.uvs[v];
+    }
+
+    // Triangles per region in survival order.
+    std::vector<std::vector<std::uint32_t>> trianglesOf(regionCount);
+    for (std::uint32_t t = 0; t < m_owner.size(); ++t) trianglesOf[m_owner[t]].push_back(t);
+    std::vector<std::uint32_t> slotOf(m_owner.size());
+    out.m_regions.resize(regionCount);
+    std::uint32_t vertexCursor = 0;
+    for (std::uint32_t r = 0; r < regionCount; ++r) {
+      RegionSequence& seq = out.m_regions[r];
+      const std::size_t stepCount = m_regionStepCount[r];
+      seq.m_stepCount = stepCount;
+      std::vector<std::uint32_t>& tris = trianglesOf[r];
+      std::stable_sort(tris.begin(), tris.end(), [&](std::uint32_t x, std::uint32_t y) {
+        return vanishKey(x) > vanishKey(y);
+      });
+      seq.m_fullIndices.resize(3 * tris.size());
+      for (std::uint32_t i = 0; i < tris.size(); ++i) {
+        const std::uint32_t t = tris[i];
+        slotOf[t] = 3 * i;
+        for (std::uint32_t c = 0; c < 3; ++c) {
+          const std::uint32_t original = originalCorner(t, c);
+          seq.m_fullIndices[3 * i + c] = newIndex[original];
+          const std::uint32_t cornerRegion = m_partition.regionOf(original);
+          if (cornerRegion != r) seq.m_foreignCorners.push_back({3 * i + c, cornerRegion, m_entryOf[original]});
+        }
+      }
+      // Counts after m steps.
+      seq.m_trianglesAfterSteps.assign(stepCount + 1, 0);
+      seq.m_verticesAfterSteps.assign(stepCount + 1, 0);
+      seq.m_errorAfterSteps.assign(stepCount + 1, 0.0f);
+      std::vector<std::uint32_t> vanishing(stepCount + 1, 0), removing(stepCount + 1, 0);
+      for (std::uint32_t t : tris) ++vanishing[std::min<std::size_t>(vanishKey(t), stepCount)];
+      std::uint32_t regionVertices = 0;
+      for (std::uint32_t i = vertexCursor; i < vertexCount && out.m_vertexRegion[i] == r; ++i) {
+        ++regionVertices;
+        ++removing[std::min<std::size_t>(removalKey(order[i]), stepCount)];
+      }
+      seq.m_vertexBegin = vertexCursor;
+      seq.m_vertexEnd = vertexCursor + regionVertices;
+      vertexCursor += regionVertices;
+      std::uint32_t triAlive = static_cast<std::uint32_t>(tris.size()), vertAlive = regionVertices;
+      for (std::size_t m = 0; m <= stepCount; ++m) {
+        seq.m_trianglesAfterSteps[m] = triAlive;
+        seq.m_verticesAfterSteps[m] = vertAlive;
+        if (m < stepCount) {
+          triAlive -= vanishing[m];
+          vertAlive -= removing[m];
+        }
+      }
+      seq.m_borderVertices.reserve(m_borderVertices[r].size());
+      for (std::uint32_t v : m_borderVertices[r]) seq.m_borderVertices.push_back(newIndex[v]);
+    }
+    // Step errors per region, made monotone; corner and border changes in new numbering.
+    std::vector<float> runningError(regionCount, 0.0f);
+    for (std::size_t s = 0; s < m_steps.size(); ++s) {
+      const std::uint32_t r = m_partition.regionOf(m_steps.representative[s]);
+      runningError[r] = std::max(runningError[r], m_steps.error[s]);
+      out.m_regions[r].m_errorAfterSteps[m_localStep[s] + 1] = runningError[r];
+    }
+    for (std::uint32_t r = 0; r < regionCount; ++r) {
+      RegionSequence& seq = out.m_regions[r];
+      seq.m_cornerChanges.reserve(m_recorded[r].size());
+      for (const RecordedChange& c : m_recorded[r])
+        seq.m_cornerChanges.push_back({slotOf[c.triangle] + c.corner, newIndex[c.before], newIndex[c.after]});
+      seq.m_cornerChangeBegin = std::move(m_recordedBegin[r]);
+      seq.m_borderChanges.reserve(m_borderRecorded[r].size());
+      for (const RecordedChange& c : m_borderRecorded[r])
+        seq.m_borderChanges.push_back({c.triangle, newIndex[c.before], newIndex[c.after]});
+      seq.m_borderChangeBegin = std::move(m_borderRecordedBegin[r]);
+      out.m_vertices.indices.insert(out.m_vertices.indices.end(), seq.m_fullIndices.begin(), seq.m_fullIndices.end());
+    }
+    return out;
+  }
+
+  std::uint32_t vanishKey(std::uint32_t t) const { return m_vanishStep[t]; }
+  std::uint32_t originalCorner(std::uint32_t t, std::uint32_t c) const {
+    return m_originalCorners[3 * t + c];
+  }
+
+  const TriangleMesh& m_mesh;
+  const RegionPartition& m_partition;
+  const SimplificationSteps& m_steps;
+  std::vector<std::uint32_t> m_removalStep;      // global step removing each vertex
+  std::vector<std::uint32_t> m_localStep;        // per global step: its index in its region
+  std::vector<std::uint32_t> m_regionStepCount;  // per region
+  std::vector<std::uint32_t> m_corners;          // current vertex of every corner
+  std::vector<std::uint32_t> m_originalCorners;  // corners before the replay
+  std::vector<std::uint32_t> m_owner;            // region of every triangle
+  std::vector<std::uint32_t> m_vanishStep;       // local step at which a triangle degenerates
+  std::vector<std::vector<std::uint32_t>> m_cornersOf;
+  std::vector<std::uint32_t> m_entryOf;  // border-table entry of a vertex, in its region
+  std::vector<std::vector<std::uint32_t>> m_entriesValued;
+  std::vector<std::vector<std::uint32_t>> m_borderVertices;
+  std::vector<std::vector<RecordedChange>> m_recorded;
+  std::vector<std::vector<std::uint32_t>> m_recordedBegin;
+  std::vector<std::vector<RecordedChange>> m_borderRecorded;
+  std::vector<std::vector<std::uint32_t>> m_borderRecordedBegin;
+};
+
+Result<ProgressiveMesh> ProgressiveMesh::assemble(const TriangleMesh& mesh, const RegionPartition& partition,
+                                                  const SimplificationSteps& steps) {
+  return ProgressiveMeshAssembler(mesh, partition, steps).run();
+}
+
+}  // namespace polder::mesh
