@@ -12,5 +12,6 @@ void addRenderCommand(CLI::App& app, int& exitCode);
 void addQueryCommand(CLI::App& app, int& exitCode);
 void addFlyoverCommand(CLI::App& app, int& exitCode);
 void addBenchCommand(CLI::App& app, int& exitCode);
+void addSimplifyCommand(CLI::App& app, int& exitCode);
 
 }  // namespace polder::cli

@@ -1,5 +1,7 @@
 // Runs the real polder program: what a user sees, exit codes included.
 #include <array>
+#include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -214,8 +216,84 @@ TEST_F(PolderProgram, BenchRejectsBadArguments) {
   }
 }
 
+// A closed, bumpy sphere as an OBJ with vertex colours (red cap, blue rest).
+std::string writeSphereObj(const ScratchDir& dir) {
+  const std::string path = dir.file("sphere.obj").string();
+  std::ofstream obj(path);
+  const int rings = 24, segments = 32;
+  const double pi = 3.14159265358979;
+  obj << "v 0 0 1 1 0 0\n";
+  for (int r = 1; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const double theta = pi * r / rings, phi = 2 * pi * s / segments;
+      const double radius = 1.0 + 0.05 * std::sin(5 * phi) * std::sin(3 * theta);
+      obj << "v " << radius * std::sin(theta) * std::cos(phi) << " " << radius * std::sin(theta) * std::sin(phi) << " "
+          << radius * std::cos(theta) << (r < rings / 3 ? " 1 0 0" : " 0 0 1") << "\n";
+    }
+  obj << "v 0 0 -1 0 0 1\n";
+  auto ring = [&](int r, int s) { return 2 + (r - 1) * segments + s % segments; };
+  const int south = 2 + (rings - 1) * segments;
+  for (int s = 0; s < segments; ++s) obj << "f 1 " << ring(1, s) << " " << ring(1, s + 1) << "\n";
+  for (int r = 1; r + 1 < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      obj << "f " << ring(r, s) << " " << ring(r + 1, s) << " " << ring(r + 1, s + 1) << "\n";
+      obj << "f " << ring(r, s) << " " << ring(r + 1, s + 1) << " " << ring(r, s + 1) << "\n";
+    }
+  for (int s = 0; s < segments; ++s) obj << "f " << south << " " << ring(rings - 1, s + 1) << " " << ring(rings - 1, s) << "\n";
+  return path;
+}
+
+TEST(PolderSimplify, WritesTheMeshAndTheDocumentedReport) {
+  ScratchDir dir;
+  const std::string input = writeSphereObj(dir);
+  for (const char* builder : {"collapse", "cluster"}) {
+    for (const char* regions : {"1", "6"}) {
+      const std::string out = dir.file(std::string(builder) + regions + ".ply").string();
+      const std::string json = dir.file("report.json").string();
+      const ProgramRun run = runPolder("simplify " + input + " --triangles 300 --builder " + builder + " --regions " +
+                                       regions + " --samples 20000 --out " + out + " --json " + json);
+      ASSERT_EQ(run.exitCode, 0) << run.output;
+      std::ifstream in(json);
+      const auto report = nlohmann::json::parse(in);
+      for (const char* key : {"input_triangles", "output_triangles", "build_ms", "extract_ms", "sequence_length",
+                              "subset_of_original", "open_edges_added", "hausdorff", "rms", "colour_error"})
+        EXPECT_TRUE(report.contains(key)) << key;
+      EXPECT_EQ(report["input_triangles"], 2 * 32 * 23);
+      EXPECT_LE(report["output_triangles"].get<int>(), 300) << builder << " " << regions;
+      EXPECT_GE(report["output_triangles"].get<int>(), 150) << builder << " " << regions;
+      EXPECT_TRUE(report["subset_of_original"].get<bool>());
+      EXPECT_EQ(report["open_edges_added"], 0) << builder << " " << regions;
+      EXPECT_GT(report["hausdorff"].get<double>(), 0.0);
+      EXPECT_LT(report["hausdorff"].get<double>(), 0.1);
+      EXPECT_LE(report["rms"].get<double>(), report["hausdorff"].get<double>());
+      EXPECT_TRUE(std::filesystem::exists(out));
+    }
+  }
+}
+
+TEST(PolderSimplify, BadInputGetsAClearMessageAndExitCode) {
+  ScratchDir dir;
+  const std::string input = writeSphereObj(dir);
+  const std::string missing = dir.file("missing.ply").string();
+  ProgramRun run = runPolder("simplify " + missing + " --triangles 10 --out " + dir.file("o.obj").string());
+  EXPECT_EQ(run.exitCode, 1);
+  EXPECT_NE(run.output.find("missing.ply"), std::string::npos) << run.output;
+  const std::string garbage = dir.file("garbage.ply").string();
+  std::ofstream(garbage) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n";
+  run = runPolder("simplify " + garbage + " --triangles 10 --out " + dir.file("o.obj").string());
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_NE(run.output.find("garbage.ply"), std::string::npos) << run.output;
+  run = runPolder("simplify " + input + " --triangles 10 --out " + dir.file("o.stl").string());
+  EXPECT_NE(run.exitCode, 0);
+  EXPECT_NE(run.output.find(".obj or .ply"), std::string::npos) << run.output;
+  run = runPolder("simplify " + input + " --triangles 10 --builder melt --out " + dir.file("o.obj").string());
+  EXPECT_EQ(run.exitCode, 2) << run.output;
+  run = runPolder("simplify " + input + " --triangles 0 --out " + dir.file("o.obj").string());
+  EXPECT_NE(run.exitCode, 0) << run.output;
+}
+
 TEST(PolderProgramHelp, EverySubcommandHasHelp) {
-  for (const char* command : {"info", "gen", "render", "query", "flyover", "bench"}) {
+  for (const char* command : {"info", "gen", "render", "query", "flyover", "bench", "simplify"}) {
     const ProgramRun run = runPolder(std::string(command) + " --help");
     EXPECT_EQ(run.exitCode, 0) << command << ": " << run.output;
     EXPECT_NE(run.output.find("Usage"), std::string::npos) << command;

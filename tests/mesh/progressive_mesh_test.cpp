@@ -271,33 +271,5 @@ TEST(ProgressiveMesh, RejectsStepsThatBreakTheRules) {
   EXPECT_FALSE(ProgressiveMesh::assemble(grid, singleRegion(), outOfRange).ok());
 }
 
-TEST(CollapseBuilder, ColoursSteerTheCollapsesToKeepAColourBorder) {
-  // A flat grid painted in two colours along x = 0.5: with colours the border survives.
-  TriangleMesh grid = test::bumpyGrid(24, 0.0f);
-  for (const glm::vec3& p : grid.positions) grid.colours.push_back(p.x < 0.49f ? glm::vec4(1, 0, 0, 1) : glm::vec4(0, 0, 1, 1));
-  auto mixedTriangles = [&](const CollapseOptions& options) {
-    const ProgressiveMesh pm = buildProgressive(grid, singleRegion(), options);
-    ProgressiveMeshInstance instance(pm);
-    instance.setLevel(0, pm.region(0).levelForTriangles(60));
-    int mixed = 0;
-    const auto idx = instance.indices(0);
-    for (std::size_t t = 0; t < idx.size(); t += 3) {
-      const auto& c = pm.vertices().colours;
-      mixed += (c[idx[t]] != c[idx[t + 1]]) || (c[idx[t]] != c[idx[t + 2]]);
-    }
-    return std::pair{mixed, idx.size() / 3};
-  };
-  CollapseOptions blind;
-  blind.colourWeight = 0.0;
-  const auto [mixedWith, trianglesWith] = mixedTriangles({});
-  const auto [mixedBlind, trianglesBlind] = mixedTriangles(blind);
-  EXPECT_LE(trianglesWith, 60u);
-  EXPECT_GT(trianglesWith, 30u);
-  // The colour-aware sequence keeps the border's vertices: every vertex keeps its colour,
-  // so triangles straddle the border only in one strip of them.
-  EXPECT_LT(mixedWith, mixedBlind);
-  (void)trianglesBlind;
-}
-
 }  // namespace
 }  // namespace polder::mesh

@@ -13,7 +13,8 @@ namespace polder::mesh {
 namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-constexpr int kMaxAttributes = 8;  // normal 3 + colour 3 + uv 2
+// Colours further apart than this (RGB distance) make a border that collapses keep.
+constexpr float kColourDiscontinuity = 0.25f;
 
 enum class VertexKind : std::uint8_t {
   Interior,  // its fan is one closed disk
@@ -41,7 +42,7 @@ class CollapseBuilder {
 
   SimplificationSteps run() {
     setUp();
-    for (std::uint32_t v = 0; v < m_vertexCount; ++v) updateCandidate(v);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) updateCandidate(v, /*validate=*/false);
     const std::size_t reportEvery = std::max<std::size_t>(1, m_vertexCount / 64);
     SimplificationSteps steps;
     steps.representative.reserve(m_vertexCount);
@@ -55,9 +56,10 @@ class CollapseBuilder {
       const std::uint32_t v = entry.vertex;
       if (entry.version != m_version[v] || !m_alive[v] || m_target[v] == kNone) continue;
       const std::uint32_t u = m_target[v];
-      // The neighbourhood may have changed since the candidate was chosen.
+      // Candidates are costed without the validity checks; check the cheapest now, and if it
+      // fails, queue v's cheapest valid option instead.
       if (!m_alive[u] || !collapseIsValid(v, u)) {
-        updateCandidate(v);
+        updateCandidate(v, /*validate=*/true);
         continue;
       }
       collapse(v, u);
@@ -101,13 +103,16 @@ class CollapseBuilder {
     setUpAttributes();
     m_quadric.assign(m_vertexCount, Quadric{});
     for (std::uint32_t t = 0; t < triangleCount; ++t) addTriangleQuadric(t);
-    m_alive.assign(m_vertexCount, 1);
-    m_kind.assign(m_vertexCount, VertexKind::Interior);
-    for (std::uint32_t v = 0; v < m_vertexCount; ++v) classify(v);
-    m_target.assign(m_vertexCount, kNone);
-    m_version.assign(m_vertexCount, 0);
     m_markA.assign(m_vertexCount, 0);
     m_markB.assign(m_vertexCount, 0);
+    m_slot.assign(m_vertexCount, 0);
+    m_alive.assign(m_vertexCount, 1);
+    m_kind.assign(m_vertexCount, VertexKind::Interior);
+    m_colourBorder.assign(m_vertexCount, 0);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) classify(v);
+    m_target.assign(m_vertexCount, kNone);
+    m_cost.assign(m_vertexCount, 0.0f);
+    m_version.assign(m_vertexCount, 0);
     m_heap.reserve(2 * m_vertexCount);
   }
 
@@ -171,6 +176,7 @@ class CollapseBuilder {
   // the number of live triangles on each edge.
   void gatherNeighbours(std::uint32_t v, std::vector<Neighbour>& out) {
     out.clear();
+    ++m_stamp;
     std::vector<std::uint32_t>& fan = m_fan[v];
     std::size_t kept = 0;
     for (std::uint32_t t : fan) {
@@ -179,9 +185,13 @@ class CollapseBuilder {
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t x = m_corner[3 * t + k];
         if (x == v) continue;
-        auto it = std::find_if(out.begin(), out.end(), [x](const Neighbour& n) { return n.vertex == x; });
-        if (it == out.end()) out.push_back({x, 1});
-        else ++it->sharedTriangles;
+        if (m_markA[x] == m_stamp) {
+          ++out[m_slot[x]].sharedTriangles;
+        } else {
+          m_markA[x] = m_stamp;
+          m_slot[x] = static_cast<std::uint32_t>(out.size());
+          out.push_back({x, 1});
+        }
       }
     }
     fan.resize(kept);
@@ -203,6 +213,16 @@ class CollapseBuilder {
     else if (borderEdges == 2 && m_neighbours.size() == triangles + 1) m_kind[v] = VertexKind::Border;
     else m_kind[v] = VertexKind::Locked;
     if (m_kind[v] == VertexKind::Border) addBoundaryPlanes(v);
+    // A vertex beside a colour discontinuity holds the colour border: it may only slide
+    // along it, onto another vertex of its own colour that is also beside the border.
+    if (m_options.colourWeight > 0.0 && m_mesh.hasColours())
+      for (const Neighbour& n : m_neighbours)
+        if (coloursDiffer(v, n.vertex)) m_colourBorder[v] = 1;
+  }
+
+  bool coloursDiffer(std::uint32_t a, std::uint32_t b) const {
+    const glm::vec3 d = glm::vec3(m_mesh.colours[a]) - glm::vec3(m_mesh.colours[b]);
+    return glm::dot(d, d) > kColourDiscontinuity * kColourDiscontinuity;
   }
 
   // Planes through v's boundary edges, perpendicular to their triangle, keep the outline.
@@ -247,29 +267,44 @@ class CollapseBuilder {
     return static_cast<float>(std::sqrt(q.evaluate(m_position[u]) / q.weight) * m_diagonal);
   }
 
-  void updateCandidate(std::uint32_t v) {
-    ++m_version[v];
-    m_target[v] = kNone;
-    if (!m_alive[v] || m_kind[v] == VertexKind::Locked) return;
+  // Queues v's cheapest collapse; with `validate`, its cheapest valid one (link condition,
+  // no flips), else only the cost order is known and the check waits for the pop.
+  void updateCandidate(std::uint32_t v, bool validate) {
+    if (!m_alive[v] || m_kind[v] == VertexKind::Locked) {
+      ++m_version[v];
+      m_target[v] = kNone;
+      return;
+    }
     gatherNeighbours(v, m_neighbours);
     const std::uint32_t region = m_partition.regionOf(v);
     m_options_scratch.clear();
     for (const Neighbour& n : m_neighbours) {
       if (m_partition.regionOf(n.vertex) != region) continue;
       if (m_kind[v] == VertexKind::Border && n.sharedTriangles != 1) continue;
+      if (m_colourBorder[v] && (!m_colourBorder[n.vertex] || coloursDiffer(v, n.vertex))) continue;
       const double cost = m_quadric[v].evaluate(m_position[n.vertex]) + attributeCost(v, n.vertex);
       m_options_scratch.push_back({static_cast<float>(cost), n.vertex, 0});
     }
-    std::sort(m_options_scratch.begin(), m_options_scratch.end(),
-              [](const HeapEntry& x, const HeapEntry& y) { return x.cost < y.cost; });
+    auto cheaper = [](const HeapEntry& x, const HeapEntry& y) { return x.cost < y.cost; };
+    if (validate) std::sort(m_options_scratch.begin(), m_options_scratch.end(), cheaper);
+    else if (!m_options_scratch.empty())
+      std::iter_swap(m_options_scratch.begin(),
+                     std::min_element(m_options_scratch.begin(), m_options_scratch.end(), cheaper));
     for (const HeapEntry& option : m_options_scratch) {
-      if (!collapseIsValid(v, option.vertex)) continue;
+      if (validate && !collapseIsValid(v, option.vertex)) continue;
+      // The queued entry already says this: keep it rather than grow the heap.
+      if (!validate && option.vertex == m_target[v] && option.cost == m_cost[v]) return;
+      ++m_version[v];
       m_target[v] = option.vertex;
+      m_cost[v] = option.cost;
       m_heap.push_back({option.cost, v, m_version[v]});
       std::push_heap(m_heap.begin(), m_heap.end(), std::greater<>());
       return;
     }
+    ++m_version[v];
+    m_target[v] = kNone;
   }
+
 
   // Link condition and normal check for moving v onto its neighbour u.
   bool collapseIsValid(std::uint32_t v, std::uint32_t u) {
@@ -320,6 +355,7 @@ class CollapseBuilder {
   }
 
   void collapse(std::uint32_t v, std::uint32_t u) {
+    gatherNeighbours(v, m_ring);
     for (std::uint32_t t : m_fan[v]) {
       if (!m_triangleAlive[t]) continue;
       std::uint32_t* c = &m_corner[3 * t];
@@ -341,10 +377,11 @@ class CollapseBuilder {
       for (int k = 0; k < m_dims; ++k) m_moment1[std::size_t(u) * m_dims + k] += m_moment1[std::size_t(v) * m_dims + k];
     }
     ++m_version[v];
-    // u and its ring see changed quadrics, fans and links.
-    gatherNeighbours(u, m_ring);
-    updateCandidate(u);
-    for (std::size_t i = 0; i < m_ring.size(); ++i) updateCandidate(m_ring[i].vertex);
+    // u's quadric changed; v's old neighbours lost a target and gained u. Everyone else keeps
+    // the costs of their options (a target's position never moves); validity is checked at the pop.
+    updateCandidate(u, false);
+    for (std::size_t i = 0; i < m_ring.size(); ++i)
+      if (m_ring[i].vertex != u) updateCandidate(m_ring[i].vertex, false);
   }
 
   const TriangleMesh& m_mesh;
@@ -364,9 +401,12 @@ class CollapseBuilder {
   std::vector<double> m_moment0, m_moment1, m_moment2;
   std::vector<std::uint8_t> m_alive;
   std::vector<VertexKind> m_kind;
+  std::vector<std::uint8_t> m_colourBorder;
   std::vector<std::uint32_t> m_target;
+  std::vector<float> m_cost;  // of the queued collapse
   std::vector<std::uint32_t> m_version;
   std::vector<std::uint32_t> m_markA, m_markB;
+  std::vector<std::uint32_t> m_slot;  // a marked neighbour's place in the gathered list
   std::uint32_t m_stamp = 0;
   std::vector<HeapEntry> m_heap;
   std::vector<Neighbour> m_neighbours, m_ring;

@@ -117,19 +117,22 @@ class ProgressiveMeshAssembler {
     m_originalCorners = m_corners;
     m_vanishStep.assign(m_owner.size(), kNever);
     // Own corners per vertex; border-table entries for vertices that foreign triangles use.
-    m_cornersOf.assign(m_mesh.vertexCount(), {});
+    m_cornerHead.assign(m_mesh.vertexCount(), kNever);
+    m_cornerNext.assign(m_corners.size(), kNever);
     m_entryOf.assign(m_mesh.vertexCount(), kNever);
-    m_entriesValued.assign(m_mesh.vertexCount(), {});
+    m_entryHead.assign(m_mesh.vertexCount(), kNever);
     m_borderVertices.assign(m_partition.regionCount, {});
     for (std::uint32_t k = 0; k < m_corners.size(); ++k) {
       const std::uint32_t v = m_corners[k];
       const std::uint32_t region = m_partition.regionOf(v);
       if (region == m_owner[k / 3]) {
-        m_cornersOf[v].push_back(k);
+        m_cornerNext[k] = m_cornerHead[v];
+        m_cornerHead[v] = k;
       } else if (m_entryOf[v] == kNever) {
         m_entryOf[v] = static_cast<std::uint32_t>(m_borderVertices[region].size());
         m_borderVertices[region].push_back(v);
-        m_entriesValued[v].push_back(m_entryOf[v]);
+        m_entryNodes.push_back({m_entryOf[v], m_entryHead[v]});
+        m_entryHead[v] = static_cast<std::uint32_t>(m_entryNodes.size() - 1);
       }
     }
   }
@@ -148,7 +151,9 @@ class ProgressiveMeshAssembler {
       const std::size_t changesBefore = changes.size();
       dyingNow.clear();
       for (std::uint32_t v : m_steps.removedBy(s)) {
-        for (std::uint32_t k : m_cornersOf[v]) {
+        // Move v's corners onto rep's list, dropping those of triangles already gone.
+        for (std::uint32_t k = m_cornerHead[v], next; k != kNever; k = next) {
+          next = m_cornerNext[k];
           const std::uint32_t t = k / 3;
           if (m_vanishStep[t] != kNever && m_vanishStep[t] != local) continue;  // vanished earlier
           m_corners[k] = rep;
@@ -159,25 +164,23 @@ class ProgressiveMeshAssembler {
               dyingNow.push_back(t);
             }
           }
-          m_cornersOf[rep].push_back(k);
+          m_cornerNext[k] = m_cornerHead[rep];
+          m_cornerHead[rep] = k;
         }
-        std::vector<std::uint32_t>().swap(m_cornersOf[v]);
-        for (std::uint32_t entry : m_entriesValued[v]) {
-          m_borderRecorded[region].push_back({entry, 0, v, rep});
-          m_entriesValued[rep].push_back(entry);
+        m_cornerHead[v] = kNever;
+        for (std::uint32_t node = m_entryHead[v], next; node != kNever; node = next) {
+          next = m_entryNodes[node].next;
+          m_borderRecorded[region].push_back({m_entryNodes[node].entry, 0, v, rep});
+          m_entryNodes[node].next = m_entryHead[rep];
+          m_entryHead[rep] = node;
         }
-        std::vector<std::uint32_t>().swap(m_entriesValued[v]);
+        m_entryHead[v] = kNever;
       }
       // A triangle that vanishes in this step leaves the drawn prefix; its corners need no change.
       if (!dyingNow.empty()) {
         auto kept = std::remove_if(changes.begin() + static_cast<std::ptrdiff_t>(changesBefore), changes.end(),
                                    [&](const RecordedChange& c) { return m_vanishStep[c.triangle] == local; });
         changes.erase(kept, changes.end());
-      }
-      // Drop corners of vanished triangles from the representative's list now and then.
-      std::vector<std::uint32_t>& repCorners = m_cornersOf[rep];
-      if (repCorners.size() > 64) {
-        std::erase_if(repCorners, [&](std::uint32_t k) { return m_vanishStep[k / 3] != kNever; });
       }
       m_recordedBegin[region].push_back(static_cast<std::uint32_t>(changes.size()));
       m_borderRecordedBegin[region].push_back(static_cast<std::uint32_t>(m_borderRecorded[region].size()));
@@ -309,9 +312,15 @@ class ProgressiveMeshAssembler {
   std::vector<std::uint32_t> m_originalCorners;  // corners before the replay
   std::vector<std::uint32_t> m_owner;            // region of every triangle
   std::vector<std::uint32_t> m_vanishStep;       // local step at which a triangle degenerates
-  std::vector<std::vector<std::uint32_t>> m_cornersOf;
+  // Own corners per vertex and border-table entries per vertex, as linked lists that a step
+  // splices onto its representative.
+  std::vector<std::uint32_t> m_cornerHead, m_cornerNext;
+  struct EntryNode {
+    std::uint32_t entry, next;
+  };
+  std::vector<EntryNode> m_entryNodes;
+  std::vector<std::uint32_t> m_entryHead;
   std::vector<std::uint32_t> m_entryOf;  // border-table entry of a vertex, in its region
-  std::vector<std::vector<std::uint32_t>> m_entriesValued;
   std::vector<std::vector<std::uint32_t>> m_borderVertices;
   std::vector<std::vector<RecordedChange>> m_recorded;
   std::vector<std::vector<std::uint32_t>> m_recordedBegin;

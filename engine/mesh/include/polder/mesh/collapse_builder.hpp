@@ -6,7 +6,8 @@
 // the removed cluster's normals, colours and UVs from the representative's (kept as
 // moments, so merged clusters cost O(1)). A collapse is refused when it would flip or
 // nearly flip a triangle, break the surface's manifold structure (link condition), move a
-// vertex off an open boundary or a non-manifold vertex at all, or join two regions.
+// vertex off an open boundary or a non-manifold vertex at all, move a vertex beside a
+// colour discontinuity off that border (colourWeight > 0), or join two regions.
 #pragma once
 
 #include <cstdint>

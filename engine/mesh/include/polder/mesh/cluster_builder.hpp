@@ -1,0 +1,62 @@
+// Builder `cluster`: view-independent LOD modelling by floating-cell vertex clustering
+// (seeds/002_d92600183c0e5cf1.txt, part A). Each step picks the representative of lowest
+// cost, centres an axis-aligned cell of size tau on it, grows a spanning tree from it over
+// the current edges inside the cell, and gathers the tree onto it: several vertices per
+// step; triangles with two or three gathered corners vanish, the others are re-pointed
+// (no edge collapse's link condition: the seed simplifies topology too, though a step
+// never pinches the surface into a non-manifold edge). The representative is an original
+// vertex, so every level uses original vertices only (simplification_steps.hpp).
+//
+// Vertices are classified once (simple, boundary, sharp edge, corner, complex), and a
+// vertex only joins a representative that keeps its feature: sharp-edge vertices along
+// their feature line, boundary vertices along the boundary, colour-border vertices along
+// their side of the border; corners and non-manifold vertices never join. Knots of sharp
+// edges spanning only a few edge lengths (noise) are no features, and a feature the
+// coarser mesh no longer shows (no sharp edge left around it) relaxes to a simple vertex.
+//
+// Cost of a cluster: the quadric error (Garland & Heckbert 1997) of the gathered vertices'
+// planes at the representative plus their area-weighted colour deviation, each scaled by
+// the vertex's class weight, averaged over the gathered vertices. A vertex costing far
+// more than the others, or whose move would flip a surviving triangle or pinch the
+// surface (a non-manifold edge, an isolated vertex), stays out with its subtree. Cells
+// start at tau0 (the seed's uniform subdivision of the bounding box); a representative
+// with nothing to gather in its cell grows it by `cellGrowth`, so cheap parts coarsen in
+// larger cells while costly ones wait, until the cell covers the bounding box.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include "polder/mesh/region_partition.hpp"
+#include "polder/mesh/simplification_steps.hpp"
+#include "polder/mesh/triangle_mesh.hpp"
+#include "polder/result.hpp"
+
+namespace polder::mesh {
+
+struct ClusterOptions {
+  // Initial cell size tau0 as a fraction of the bounding-box diagonal; 0 picks twice the
+  // mean edge length (a cell reaching about one ring of neighbours).
+  double initialCellFraction = 0.0;
+  // A representative whose cell holds nothing it may gather multiplies its cell by this (> 1).
+  double cellGrowth = 1.5;
+  // Weight of the colour term: a colour difference of 1 costs as much as a distance of
+  // `colourWeight` bounding-box diagonals. 0 ignores colours (and colour borders).
+  double colourWeight = 0.5;
+  // Edges whose two face normals differ by more than this angle are sharp; boundaries and
+  // feature lines that turn by more than it make corners. 180 turns features off.
+  double featureAngleDegrees = 40.0;
+  // Stop once at most this many triangles remain (0: go as far as the rules allow).
+  std::uint32_t stopAtTriangles = 0;
+  // Called now and then with the fraction of vertices removed so far.
+  std::function<void(double)> progress;
+};
+
+// The steps from the original mesh to the coarsest mesh the rules allow; no step joins two
+// regions and every step removes at least one vertex. Errors in the steps are object-space
+// distances: the largest root-mean-square plane distance, at the representative, of the
+// clusters it holds after the step.
+Result<SimplificationSteps> buildClusterSteps(const TriangleMesh& mesh, const RegionPartition& partition,
+                                              const ClusterOptions& options = {});
+
+}  // namespace polder::mesh

@@ -1,0 +1,867 @@
+#include "polder/mesh/cluster_builder.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "quadric.hpp"
+
+namespace polder::mesh {
+
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+// Planes through boundary edges hold the outline: this times the edge length squared (the
+// collapse builder's boundaryWeight).
+constexpr double kBoundaryWeight = 4.0;
+// Sharp edges and outlines that span less than this many mean edge lengths are noise.
+constexpr double kSmallestFeatureEdges = 4.0;
+// Neighbours whose RGB colours differ by more than this lie on a colour border.
+constexpr double kColourBorderTolerance = 0.2;
+// A member costing more than this times the cluster's mean cost stays out.
+constexpr double kOutlierFactor = 2.5;
+// At most this many vertices join in one step (the tree is cut breadth first): it bounds
+// the work of a large cell on fine ground, where the seed gathers 2 to 10 vertices a step.
+constexpr std::size_t kMaxClusterSize = 32;
+// A triangle that survives a step may turn by at most about 87 degrees.
+constexpr double kMinNormalCosine = 0.05;
+// A tiny cost for gathering distant vertices: on flat ground, where every cluster costs
+// nothing, it keeps clusters compact and cells growing evenly.
+constexpr double kCompactness = 1e-6;
+
+// The seed's five vertex categories (part A, preprocessing), found on the original mesh;
+// a feature the coarser mesh no longer shows relaxes later (demoteFadedFeature).
+// Independently of its class, a vertex next to a vertex of another colour lies on a
+// colour border and only joins along its side of it (keepsFeature).
+enum class VertexClass : std::uint8_t {
+  Simple,     // interior and smooth: joins any representative
+  Boundary,   // on one open boundary that runs straight on: joins along the boundary
+  SharpEdge,  // on one feature line (one or two sharp edges): joins along that line
+  Corner,     // three or more sharp edges, a sharp turn, a boundary meeting a crease: stays
+  Complex,    // non-manifold or isolated: stays
+};
+
+// Features cost more to gather, so they go last (the seed's class weights).
+double classWeight(VertexClass c) {
+  switch (c) {
+    case VertexClass::Boundary:
+    case VertexClass::SharpEdge: return 2.0;
+    default: return 1.0;
+  }
+}
+
+struct HeapEntry {
+  double priority;
+  std::uint32_t vertex;
+  std::uint32_t version;
+  bool operator>(const HeapEntry& o) const { return priority > o.priority; }
+};
+
+struct Edge {
+  std::uint32_t a, b;
+};
+
+// One side of an edge of the original mesh, for classification.
+struct EdgeSide {
+  std::uint32_t lo, hi, triangle;
+  bool forward;  // the triangle runs lo -> hi
+};
+
+// A neighbour of a vertex and the (first two) current triangles on their edge.
+struct Link {
+  std::uint32_t vertex;
+  std::uint32_t triangles;
+  std::uint32_t first, second;
+};
+
+// Disjoint sets of vertices (path halving).
+class UnionFind {
+ public:
+  explicit UnionFind(std::uint32_t size) : m_parent(size) { std::iota(m_parent.begin(), m_parent.end(), 0u); }
+  std::uint32_t find(std::uint32_t v) {
+    while (m_parent[v] != v) v = m_parent[v] = m_parent[m_parent[v]];
+    return v;
+  }
+  void join(std::uint32_t a, std::uint32_t b) { m_parent[find(a)] = find(b); }
+
+ private:
+  std::vector<std::uint32_t> m_parent;
+};
+
+class ClusterBuilder {
+ public:
+  ClusterBuilder(const TriangleMesh& mesh, const RegionPartition& partition, const ClusterOptions& options)
+      : m_mesh(mesh), m_partition(partition), m_options(options) {}
+
+  SimplificationSteps run() {
+    SimplificationSteps steps;
+    setUp();
+    if (m_liveTriangles == 0) return steps;
+    steps.representative.reserve(m_vertexCount / 2);
+    steps.removed.reserve(m_vertexCount);
+    steps.removedBegin.reserve(m_vertexCount / 2 + 1);
+    steps.error.reserve(m_vertexCount / 2);
+    const std::size_t reportEvery = std::max<std::size_t>(1, m_vertexCount / 64);
+    std::size_t removedCount = 0, nextReport = reportEvery;
+
+    // Seed preprocessing: every vertex gets its priority (the cost of the cluster it would
+    // gather); then the simplification loop, one step per cycle.
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) schedule(v);
+    std::uint32_t r = 0;
+    while (m_liveTriangles > m_options.stopAtTriangles && nextRepresentative(r)) {
+      const float error = m_error;
+      gather(r);
+      steps.add(r, m_members, error);
+      removedCount += m_members.size();
+      updateNeighbourhood(r);
+      if (m_options.progress && removedCount >= nextReport) {
+        m_options.progress(double(removedCount) / double(m_vertexCount));
+        nextReport = removedCount + reportEvery;
+      }
+    }
+    return steps;
+  }
+
+ private:
+  // Seed step 1 with a lazy queue: the neighbourhood of an entry may have changed since it
+  // was made, so the popped vertex is evaluated again and only taken if its current cost
+  // still beats every other entry; otherwise it goes back with that cost. On true, r and
+  // m_members hold the step to take.
+  bool nextRepresentative(std::uint32_t& r) {
+    for (;;) {
+      dropStaleTop();
+      if (m_heap.empty()) return false;
+      std::pop_heap(m_heap.begin(), m_heap.end(), std::greater<>());
+      r = m_heap.back().vertex;
+      m_heap.pop_back();
+      m_queued[r] = 0;
+      if (!evaluate(r, true)) continue;
+      dropStaleTop();
+      if (m_heap.empty() || m_priority <= m_heap.front().priority) return true;
+      push(r);
+    }
+  }
+
+  // Pops entries superseded by a newer one or of gathered vertices, so the top is real.
+  void dropStaleTop() {
+    while (!m_heap.empty()) {
+      const HeapEntry& top = m_heap.front();
+      if (top.version == m_version[top.vertex] && m_alive[top.vertex]) return;
+      std::pop_heap(m_heap.begin(), m_heap.end(), std::greater<>());
+      m_heap.pop_back();
+    }
+  }
+
+  // Queues r with the priority of its last evaluation, superseding older entries.
+  void push(std::uint32_t r) {
+    m_queued[r] = 1;
+    m_heap.push_back({m_priority, r, ++m_version[r]});
+    std::push_heap(m_heap.begin(), m_heap.end(), std::greater<>());
+  }
+
+  // (Re)evaluates r and queues it if it has something to gather.
+  void schedule(std::uint32_t r) {
+    ++m_version[r];
+    m_queued[r] = 0;
+    if (m_alive[r] && evaluate(r, false)) push(r);
+  }
+
+  // Seed step 6, lazily: the representative gets its new priority at once; a neighbour
+  // already queued is evaluated again when it comes up (its cluster now holds the
+  // representative's larger quadric, so its cost has mostly grown); one that had nothing
+  // to gather may have something now. The neighbours' weights are updated too: a feature
+  // the coarser mesh no longer shows may now join others.
+  void updateNeighbourhood(std::uint32_t r) {
+    collectRing(r);
+    schedule(r);
+    for (std::uint32_t x : m_ring) {
+      if (!m_queued[x]) schedule(x);
+      if (!demoteFadedFeature(x)) continue;
+      for (std::uint32_t t : m_fan[x])
+        for (int k = 0; k < 3; ++k)
+          if (const std::uint32_t y = m_corner[3 * t + k]; !m_queued[y]) schedule(y);
+    }
+  }
+
+  // --- Preprocessing -------------------------------------------------------------------
+
+  void setUp() {
+    m_vertexCount = static_cast<std::uint32_t>(m_mesh.vertexCount());
+    const double diagonal = boundingBoxDiagonal(m_mesh.positions);
+    m_diagonal = diagonal > 0.0 ? diagonal : 1.0;
+    glm::dvec3 lo(m_mesh.positions.empty() ? glm::vec3(0.0f) : m_mesh.positions.front()), hi = lo;
+    for (const glm::vec3& p : m_mesh.positions) lo = glm::min(lo, glm::dvec3(p)), hi = glm::max(hi, glm::dvec3(p));
+    m_position.resize(m_vertexCount);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v)
+      m_position[v] = (glm::dvec3(m_mesh.positions[v]) - lo) / m_diagonal;
+    const glm::dvec3 extent = (hi - lo) / m_diagonal;
+    // A cell of twice the largest extent covers the bounding box wherever it is centred.
+    m_cellLimit = 2.0 * std::max(extent.x, std::max(extent.y, extent.z)) + 1e-9;
+
+    // Live triangles (degenerate input ones are skipped) and fans.
+    const std::size_t inputTriangles = m_mesh.triangleCount();
+    m_corner.reserve(3 * inputTriangles);
+    std::vector<std::uint32_t> fanSize(m_vertexCount, 0);
+    for (std::size_t t = 0; t < inputTriangles; ++t) {
+      const std::uint32_t a = m_mesh.indices[3 * t], b = m_mesh.indices[3 * t + 1], c = m_mesh.indices[3 * t + 2];
+      if (a == b || b == c || a == c) continue;
+      m_corner.insert(m_corner.end(), {a, b, c});
+      ++fanSize[a], ++fanSize[b], ++fanSize[c];
+    }
+    const auto triangleCount = static_cast<std::uint32_t>(m_corner.size() / 3);
+    m_liveTriangles = triangleCount;
+    m_triangleAlive.assign(triangleCount, 1);
+    m_fan.resize(m_vertexCount);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) m_fan[v].reserve(fanSize[v]);
+    for (std::uint32_t t = 0; t < triangleCount; ++t)
+      for (int k = 0; k < 3; ++k) m_fan[m_corner[3 * t + k]].push_back(t);
+
+    m_quadric.assign(m_vertexCount, Quadric{});
+    std::vector<glm::dvec3> faceNormal(triangleCount, glm::dvec3(0.0));
+    for (std::uint32_t t = 0; t < triangleCount; ++t) faceNormal[t] = addFaceQuadric(t);
+    setUpColours();
+    const double meanEdge = classify(faceNormal, fanSize);
+
+    m_alive.assign(m_vertexCount, 1);
+    m_version.assign(m_vertexCount, 0);
+    m_queued.assign(m_vertexCount, 0);
+    m_mark.assign(m_vertexCount, 0);
+    m_ringMark.assign(m_vertexCount, 0);
+    m_memberIndex.assign(m_vertexCount, 0);
+    m_linkSeen.assign(m_vertexCount, 0);
+    m_keptOnEdge.assign(m_vertexCount, 0);
+    m_vanishing.assign(m_vertexCount, 0);
+    m_triangleSeen.assign(m_triangleAlive.size(), 0);
+    // Seed: cells start as a uniform subdivision of the bounding box with size tau0.
+    const double tau0 = m_options.initialCellFraction > 0.0 ? m_options.initialCellFraction : 2.0 * meanEdge;
+    m_cell.assign(m_vertexCount, std::min(std::max(tau0, 1e-12), m_cellLimit));
+    m_heap.reserve(2 * std::size_t(m_vertexCount));
+  }
+
+  // Adds triangle t's plane (weighted by its area) to its corners; returns its unit normal.
+  glm::dvec3 addFaceQuadric(std::uint32_t t) {
+    const glm::dvec3& a = m_position[m_corner[3 * t]];
+    const glm::dvec3 cross = glm::cross(m_position[m_corner[3 * t + 1]] - a, m_position[m_corner[3 * t + 2]] - a);
+    const double length = glm::length(cross);
+    if (length <= 0.0) return glm::dvec3(0.0);
+    const glm::dvec3 n = cross / length;
+    Quadric q;
+    q.addPlane(n, -glm::dot(n, a), 0.5 * length);
+    for (int k = 0; k < 3; ++k) m_quadric[m_corner[3 * t + k]] += q;
+    return n;
+  }
+
+  // Area-weighted colour moments per cluster, so a cluster's squared colour deviation from
+  // any colour costs O(1) (as in the collapse builder).
+  void setUpColours() {
+    m_useColours = m_mesh.hasColours() && m_options.colourWeight > 0.0;
+    if (!m_useColours) return;
+    m_colour.resize(m_vertexCount);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v)
+      m_colour[v] = glm::dvec3(m_mesh.colours[v]) * m_options.colourWeight;
+    m_moment0.assign(m_vertexCount, 0.0);
+    for (std::uint32_t t = 0; t < m_corner.size() / 3; ++t) {
+      const glm::dvec3& a = m_position[m_corner[3 * t]];
+      const double third =
+          glm::length(glm::cross(m_position[m_corner[3 * t + 1]] - a, m_position[m_corner[3 * t + 2]] - a)) / 6.0;
+      for (int k = 0; k < 3; ++k) m_moment0[m_corner[3 * t + k]] += third;
+    }
+    m_moment1.resize(m_vertexCount);
+    m_moment2.resize(m_vertexCount);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
+      m_moment1[v] = m_moment0[v] * m_colour[v];
+      m_moment2[v] = m_moment0[v] * glm::dot(m_colour[v], m_colour[v]);
+    }
+  }
+
+  // Classifies every vertex into the seed's categories from the edges around it, labels
+  // feature lines, adds boundary planes; returns the mean edge length.
+  double classify(const std::vector<glm::dvec3>& faceNormal, const std::vector<std::uint32_t>& fanSize) {
+    std::vector<EdgeSide> sides;
+    sides.reserve(m_corner.size());
+    for (std::uint32_t t = 0; t < m_corner.size() / 3; ++t)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = m_corner[3 * t + k], b = m_corner[3 * t + (k + 1) % 3];
+        sides.push_back({std::min(a, b), std::max(a, b), t, a < b});
+      }
+    std::sort(sides.begin(), sides.end(), [](const EdgeSide& x, const EdgeSide& y) {
+      return x.lo != y.lo ? x.lo < y.lo : x.hi < y.hi;
+    });
+
+    m_featureCosine = std::cos(m_options.featureAngleDegrees * 3.14159265358979323846 / 180.0);
+    const double colourTolerance2 =
+        kColourBorderTolerance * kColourBorderTolerance * m_options.colourWeight * m_options.colourWeight;
+    std::vector<std::uint32_t> neighbours(m_vertexCount, 0);
+    std::vector<std::uint8_t> nonManifold(m_vertexCount, 0);
+    std::vector<Edge> sharpEdges, boundaryEdges;
+    m_colourBorder.assign(m_vertexCount, 0);
+    double edgeLengthSum = 0.0;
+    std::size_t edgeCount = 0;
+    for (std::size_t i = 0; i < sides.size();) {
+      std::size_t j = i + 1;
+      while (j < sides.size() && sides[j].lo == sides[i].lo && sides[j].hi == sides[i].hi) ++j;
+      const std::uint32_t a = sides[i].lo, b = sides[i].hi;
+      ++neighbours[a], ++neighbours[b];
+      edgeLengthSum += glm::length(m_position[a] - m_position[b]);
+      ++edgeCount;
+      if (j - i == 1) {
+        boundaryEdges.push_back({a, b});
+        addBoundaryPlane(sides[i], faceNormal[sides[i].triangle]);
+      } else if (j - i == 2) {
+        const glm::dvec3 n0 = faceNormal[sides[i].triangle];
+        // Two consistently oriented triangles run the edge in opposite directions.
+        const glm::dvec3 n1 = faceNormal[sides[i + 1].triangle] * (sides[i].forward != sides[i + 1].forward ? 1.0 : -1.0);
+        if (glm::dot(n0, n0) > 0.0 && glm::dot(n1, n1) > 0.0 && glm::dot(n0, n1) < m_featureCosine)
+          sharpEdges.push_back({a, b});
+      } else {
+        nonManifold[a] = nonManifold[b] = 1;
+      }
+      if (m_useColours) {
+        const glm::dvec3 d = m_colour[a] - m_colour[b];
+        if (glm::dot(d, d) > colourTolerance2) m_colourBorder[a] = m_colourBorder[b] = 1;
+      }
+      i = j;
+    }
+    const double meanEdge = edgeCount > 0 ? edgeLengthSum / double(edgeCount) : 1.0;
+
+    // Sharp edges that only make a small knot (a spike, a crease of scanner noise) are no
+    // feature: they would lock one another for good. Nor do the turns of a small hole's
+    // outline make corners.
+    const double smallestFeature = kSmallestFeatureEdges * meanEdge;
+    dropSmallComponents(sharpEdges, smallestFeature);
+    std::vector<Edge> outlineTurns = boundaryEdges;
+    dropSmallComponents(outlineTurns, smallestFeature);
+    std::vector<std::uint8_t> cornersByTurn(m_vertexCount, 0);
+    for (const Edge& e : outlineTurns) cornersByTurn[e.a] = cornersByTurn[e.b] = 1;
+
+    // Per vertex: its boundary and sharp edges, and the first two neighbours along them.
+    std::vector<std::uint32_t> boundaryCount(m_vertexCount, 0), sharpCount(m_vertexCount, 0);
+    std::vector<std::uint32_t> boundaryNeighbour(2 * std::size_t(m_vertexCount), kNone);
+    std::vector<std::uint32_t> sharpNeighbour(2 * std::size_t(m_vertexCount), kNone);
+    auto count = [](const std::vector<Edge>& edges, std::vector<std::uint32_t>& counts, std::vector<std::uint32_t>& slots) {
+      for (const Edge& e : edges)
+        for (auto [v, x] : {std::pair{e.a, e.b}, std::pair{e.b, e.a}}) {
+          if (counts[v] < 2) slots[2 * v + counts[v]] = x;
+          ++counts[v];
+        }
+    };
+    count(boundaryEdges, boundaryCount, boundaryNeighbour);
+    count(sharpEdges, sharpCount, sharpNeighbour);
+
+    // A line through v turns sharply when its two edges are far from collinear.
+    auto turns = [&](std::uint32_t v, const std::vector<std::uint32_t>& slots) {
+      const std::uint32_t a = slots[2 * v], b = slots[2 * v + 1];
+      const glm::dvec3 in = m_position[v] - m_position[a], out = m_position[b] - m_position[v];
+      const double lengths = glm::length(in) * glm::length(out);
+      return !(glm::dot(in, out) >= m_featureCosine * lengths) || lengths <= 0.0;
+    };
+    m_class.assign(m_vertexCount, VertexClass::Complex);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
+      const std::uint32_t triangles = fanSize[v];
+      if (triangles == 0 || nonManifold[v]) continue;
+      const bool closedDisk = boundaryCount[v] == 0 && neighbours[v] == triangles;
+      const bool openDisk = boundaryCount[v] == 2 && neighbours[v] == triangles + 1;
+      if (openDisk) {
+        const bool corner = sharpCount[v] > 0 || (cornersByTurn[v] && turns(v, boundaryNeighbour));
+        m_class[v] = corner ? VertexClass::Corner : VertexClass::Boundary;
+      } else if (closedDisk) {
+        if (sharpCount[v] == 0) m_class[v] = VertexClass::Simple;
+        else if (sharpCount[v] == 1) m_class[v] = VertexClass::SharpEdge;  // where a crease fades out
+        else if (sharpCount[v] == 2 && !turns(v, sharpNeighbour)) m_class[v] = VertexClass::SharpEdge;
+        else m_class[v] = VertexClass::Corner;
+      }
+    }
+    labelLines(sharpEdges);
+    return meanEdge;
+  }
+
+  // Removes the edges of connected components (through shared vertices) whose bounding
+  // box is smaller than `smallest` across.
+  void dropSmallComponents(std::vector<Edge>& edges, double smallest) {
+    UnionFind components(m_vertexCount);
+    for (const Edge& e : edges) components.join(e.a, e.b);
+    std::vector<glm::dvec3> lo(m_vertexCount, glm::dvec3(std::numeric_limits<double>::max()));
+    std::vector<glm::dvec3> hi(m_vertexCount, glm::dvec3(std::numeric_limits<double>::lowest()));
+    for (const Edge& e : edges)
+      for (std::uint32_t v : {e.a, e.b}) {
+        const std::uint32_t c = components.find(v);
+        lo[c] = glm::min(lo[c], m_position[v]);
+        hi[c] = glm::max(hi[c], m_position[v]);
+      }
+    std::erase_if(edges, [&](const Edge& e) {
+      const std::uint32_t c = components.find(e.a);
+      return glm::length(hi[c] - lo[c]) < smallest;
+    });
+  }
+
+  // Feature lines: sharp edges joined through sharp-edge vertices (corners split them);
+  // corners remember the lines that end at them, so they may gather along those.
+  void labelLines(const std::vector<Edge>& sharpEdges) {
+    UnionFind lines(m_vertexCount);
+    for (const Edge& e : sharpEdges)
+      if (m_class[e.a] == VertexClass::SharpEdge && m_class[e.b] == VertexClass::SharpEdge) lines.join(e.a, e.b);
+    m_line.resize(m_vertexCount);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) m_line[v] = lines.find(v);
+    for (const Edge& e : sharpEdges) {
+      if (m_class[e.a] == VertexClass::Corner && m_class[e.b] == VertexClass::SharpEdge)
+        m_cornerLines.push_back(lineKey(e.a, m_line[e.b]));
+      if (m_class[e.b] == VertexClass::Corner && m_class[e.a] == VertexClass::SharpEdge)
+        m_cornerLines.push_back(lineKey(e.b, m_line[e.a]));
+    }
+    std::sort(m_cornerLines.begin(), m_cornerLines.end());
+  }
+
+  static std::uint64_t lineKey(std::uint32_t corner, std::uint32_t line) {
+    return (std::uint64_t(corner) << 32) | line;
+  }
+
+  // A plane through a boundary edge, perpendicular to its triangle, keeps the outline.
+  void addBoundaryPlane(const EdgeSide& side, const glm::dvec3& faceNormal) {
+    const glm::dvec3 edge = m_position[side.hi] - m_position[side.lo];
+    const glm::dvec3 planeNormal = glm::cross(edge, faceNormal);
+    const double length = glm::length(planeNormal);
+    if (length <= 0.0) return;
+    const glm::dvec3 n = planeNormal / length;
+    Quadric q;
+    q.addPlane(n, -glm::dot(n, m_position[side.lo]), kBoundaryWeight * glm::dot(edge, edge));
+    q.weight = 0.0;  // the outline's planes do not dilute the mean surface error
+    m_quadric[side.lo] += q;
+    m_quadric[side.hi] += q;
+  }
+
+  // --- One candidate cluster -----------------------------------------------------------
+
+  // The cluster r would gather now (m_members), its priority and error. A cell that holds
+  // nothing r may gather grows until it does or covers the bounding box; false then.
+  // Without `validate` the geometric checks are left out: a cheaper estimate for the
+  // queue, which nextRepresentative validates before a step is taken.
+  bool evaluate(std::uint32_t r, bool validate) {
+    for (;;) {
+      growTree(r, m_cell[r]);
+      if (!m_members.empty()) {
+        dropCostlyMembers(r);
+        if (validate) {
+          do dropFlippingMembers(r);
+          while (dropAPinchingMember(r));
+        }
+        removeDroppedMembers();
+      }
+      if (validate && !m_members.empty() && !keepsATriangle(r)) m_members.clear();
+      if (!m_members.empty()) break;
+      if (m_cell[r] >= m_cellLimit) return false;
+      m_cell[r] = std::min(m_cell[r] * m_options.cellGrowth, m_cellLimit);
+    }
+    scoreCluster(r);
+    return true;
+  }
+
+  // Seed steps 2 and 3: the spanning tree of r over current edges, breadth first, through
+  // vertices inside the floating cell (a cube of side tau centred on r), in r's region,
+  // that may join r under the classification rules. m_mark[x] == m_stamp marks r and the
+  // tree; m_parent holds each member's parent (an index into m_members, kNone for r).
+  void growTree(std::uint32_t r, double tau) {
+    ++m_stamp;
+    m_mark[r] = m_stamp;
+    m_members.clear();
+    m_parent.clear();
+    const glm::dvec3 centre = m_position[r];
+    const double half = 0.5 * tau;
+    const std::uint32_t region = m_partition.regionOf(r);
+    auto visit = [&](std::uint32_t p, std::uint32_t parentIndex) {
+      for (std::uint32_t t : m_fan[p]) {
+        if (!m_triangleAlive[t]) continue;
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t x = m_corner[3 * t + k];
+          if (m_mark[x] == m_stamp) continue;
+          const glm::dvec3 d = glm::abs(m_position[x] - centre);
+          if (d.x > half || d.y > half || d.z > half) continue;
+          if (m_partition.regionOf(x) != region || !keepsFeature(p, x)) continue;
+          m_mark[x] = m_stamp;
+          m_members.push_back(x);
+          m_parent.push_back(parentIndex);
+          m_memberIndex[x] = static_cast<std::uint32_t>(m_members.size() - 1);
+          if (m_members.size() == kMaxClusterSize) return;
+        }
+      }
+    };
+    visit(r, kNone);
+    for (std::uint32_t i = 0; i < m_members.size() && m_members.size() < kMaxClusterSize; ++i) visit(m_members[i], i);
+  }
+
+  // Whether x, reached over the edge from p (r or a tree member), may join p's cluster
+  // without losing its feature.
+  bool keepsFeature(std::uint32_t p, std::uint32_t x) const {
+    switch (m_class[x]) {
+      case VertexClass::Simple: break;
+      case VertexClass::Boundary:
+        if (!isBoundaryEdge(p, x)) return false;
+        break;
+      case VertexClass::SharpEdge:
+        if (!onSameLine(p, x)) return false;
+        break;
+      default: return false;  // corners and complex vertices never join
+    }
+    if (m_useColours && m_colourBorder[x]) {
+      if (!m_colourBorder[p]) return false;
+      const glm::dvec3 d = m_colour[p] - m_colour[x];
+      const double tolerance = kColourBorderTolerance * m_options.colourWeight;
+      if (glm::dot(d, d) > tolerance * tolerance) return false;  // the other side of the border
+    }
+    return true;
+  }
+
+  bool isBoundaryEdge(std::uint32_t p, std::uint32_t x) const {
+    int shared = 0;
+    for (std::uint32_t t : m_fan[p]) {
+      if (!m_triangleAlive[t]) continue;
+      const std::uint32_t* c = &m_corner[3 * t];
+      shared += c[0] == x || c[1] == x || c[2] == x;
+    }
+    return shared == 1;
+  }
+
+  bool onSameLine(std::uint32_t p, std::uint32_t x) const {
+    if (m_class[p] == VertexClass::SharpEdge) return m_line[p] == m_line[x];
+    if (m_class[p] == VertexClass::Corner)
+      return std::binary_search(m_cornerLines.begin(), m_cornerLines.end(), lineKey(p, m_line[x]));
+    return false;
+  }
+
+  // Seed step 3, "vertices that can be clustered": a member whose cost is far above the
+  // cluster's mean (across a ridge, up a flank) stays out, with its subtree. The cluster
+  // then stretches along directions that cost little, as on a cylinder.
+  void dropCostlyMembers(std::uint32_t r) {
+    m_dropped.assign(m_members.size(), 0);
+    if (m_members.size() < 2) return;
+    m_memberCost.resize(m_members.size());
+    double sum = 0.0;
+    for (std::size_t i = 0; i < m_members.size(); ++i) sum += m_memberCost[i] = memberCost(m_members[i], r);
+    const double limit = kOutlierFactor * sum / double(m_members.size());
+    for (std::size_t i = 0; i < m_members.size(); ++i) {
+      if (m_memberCost[i] > limit || (m_parent[i] != kNone && m_dropped[m_parent[i]])) m_dropped[i] = 1;
+      if (m_dropped[i]) m_mark[m_members[i]] = 0;
+    }
+  }
+
+  // Drops members whose move onto r would flip a surviving triangle, until none does.
+  void dropFlippingMembers(std::uint32_t r) {
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (std::size_t i = 0; i < m_members.size(); ++i) {
+        if (m_dropped[i]) continue;
+        if (moveFlipsATriangle(m_members[i], r)) m_dropped[i] = 1, changed = true;
+      }
+      if (changed) dropSubtrees();
+    }
+  }
+
+  // A dropped member takes its subtree along, so the cluster stays one tree (parents come
+  // before their children in m_members); dropped members lose their mark.
+  void dropSubtrees() {
+    for (std::size_t i = 0; i < m_members.size(); ++i) {
+      if (!m_dropped[i] && m_parent[i] != kNone && m_dropped[m_parent[i]]) m_dropped[i] = 1;
+      if (m_dropped[i]) m_mark[m_members[i]] = 0;
+    }
+  }
+
+  // The step must not pinch the surface: a vertex x next to the cluster keeps one fan.
+  // Its triangles that keep a marked corner all end up on the edge (r, x), so more than
+  // two of them would make that edge non-manifold (the cluster reaches round x from two
+  // sides), and none left at all would leave x isolated. Drops the last member next to
+  // the first such x (with its subtree); returns whether it dropped one.
+  bool dropAPinchingMember(std::uint32_t r) {
+    ++m_linkStamp;
+    m_touched.clear();
+    auto countTriangles = [&](std::uint32_t v) {
+      for (std::uint32_t t : m_fan[v]) {
+        if (!m_triangleAlive[t] || m_triangleSeen[t] == m_linkStamp) continue;
+        m_triangleSeen[t] = m_linkStamp;
+        const std::uint32_t* c = &m_corner[3 * t];
+        const int marked = (m_mark[c[0]] == m_stamp) + (m_mark[c[1]] == m_stamp) + (m_mark[c[2]] == m_stamp);
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t x = c[k];
+          if (m_mark[x] == m_stamp) continue;
+          if (m_linkSeen[x] != m_linkStamp) {
+            m_linkSeen[x] = m_linkStamp;
+            m_keptOnEdge[x] = m_vanishing[x] = 0;
+            m_touched.push_back(x);
+          }
+          ++(marked >= 2 ? m_vanishing[x] : m_keptOnEdge[x]);
+        }
+      }
+    };
+    countTriangles(r);
+    for (std::size_t i = 0; i < m_members.size(); ++i)
+      if (!m_dropped[i]) countTriangles(m_members[i]);
+    for (std::uint32_t x : m_touched) {
+      if (m_class[x] == VertexClass::Complex) continue;  // not one fan to begin with
+      const bool pinched = m_keptOnEdge[x] > 2;
+      const bool isolated = m_keptOnEdge[x] == 0 && m_vanishing[x] == liveTriangleCount(x);
+      if (!pinched && !isolated) continue;
+      std::size_t last = kNone;
+      for (std::uint32_t t : m_fan[x]) {
+        if (!m_triangleAlive[t]) continue;
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t y = m_corner[3 * t + k];
+          if (y != r && m_mark[y] == m_stamp && (last == kNone || m_memberIndex[y] > last)) last = m_memberIndex[y];
+        }
+      }
+      if (last == kNone) continue;  // only r is next to x: r's own fan, unchanged by the step
+      m_dropped[last] = 1;
+      dropSubtrees();
+      return true;
+    }
+    return false;
+  }
+
+  std::uint32_t liveTriangleCount(std::uint32_t x) const {
+    std::uint32_t count = 0;
+    for (std::uint32_t t : m_fan[x]) count += m_triangleAlive[t];
+    return count;
+  }
+
+  void removeDroppedMembers() {
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < m_members.size(); ++i)
+      if (!m_dropped[i]) m_members[kept++] = m_members[i];
+    m_members.resize(kept);
+  }
+
+  // Whether moving member v onto r turns a triangle that keeps existing (one with no other
+  // marked corner) by more than the limit, or flattens it.
+  bool moveFlipsATriangle(std::uint32_t v, std::uint32_t r) const {
+    for (std::uint32_t t : m_fan[v]) {
+      if (!m_triangleAlive[t]) continue;
+      const std::uint32_t* c = &m_corner[3 * t];
+      const int marked = (m_mark[c[0]] == m_stamp) + (m_mark[c[1]] == m_stamp) + (m_mark[c[2]] == m_stamp);
+      if (marked >= 2) continue;  // it vanishes
+      glm::dvec3 p[3], q[3];
+      for (int k = 0; k < 3; ++k) {
+        p[k] = m_position[c[k]];
+        q[k] = c[k] == v ? m_position[r] : p[k];
+      }
+      const glm::dvec3 before = glm::cross(p[1] - p[0], p[2] - p[0]);
+      const glm::dvec3 after = glm::cross(q[1] - q[0], q[2] - q[0]);
+      const double beforeLength = glm::length(before);
+      if (beforeLength <= 0.0) continue;  // already flat: nothing to flip
+      if (!(glm::dot(before, after) > kMinNormalCosine * beforeLength * glm::length(after))) return true;
+    }
+    return false;
+  }
+
+  // Whether some triangle at the cluster survives the step. If none does, the piece of
+  // surface holding r would vanish whole: the coarsest level keeps at least a triangle.
+  bool keepsATriangle(std::uint32_t r) const {
+    auto survives = [&](std::uint32_t t) {
+      if (!m_triangleAlive[t]) return false;
+      const std::uint32_t* c = &m_corner[3 * t];
+      return (m_mark[c[0]] == m_stamp) + (m_mark[c[1]] == m_stamp) + (m_mark[c[2]] == m_stamp) < 2;
+    };
+    if (std::any_of(m_fan[r].begin(), m_fan[r].end(), survives)) return true;
+    for (std::uint32_t v : m_members)
+      if (std::any_of(m_fan[v].begin(), m_fan[v].end(), survives)) return true;
+    return false;
+  }
+
+  // The cost of moving v's cluster onto r: its planes' quadric error and its colours'
+  // squared deviation from r's colour (both area-weighted), times v's class weight, plus
+  // the compactness tie-breaker.
+  double memberCost(std::uint32_t v, std::uint32_t r) const {
+    const glm::dvec3& at = m_position[r];
+    const Quadric& q = m_quadric[v];
+    double colour = 0.0;
+    if (m_useColours) {
+      const glm::dvec3& c = m_colour[r];
+      colour = std::max(0.0, m_moment0[v] * glm::dot(c, c) - 2.0 * glm::dot(c, m_moment1[v]) + m_moment2[v]);
+    }
+    const glm::dvec3 d = m_position[v] - at;
+    return classWeight(m_class[v]) * (q.evaluate(at) + colour) + kCompactness * q.weight * glm::dot(d, d);
+  }
+
+  // Priority (seed step 1, lowest first): the members' mean cost, so that steps remove
+  // vertices where it is cheapest per vertex. Error: the largest RMS plane distance at r
+  // of a cluster r holds after the step.
+  void scoreCluster(std::uint32_t r) {
+    const glm::dvec3& at = m_position[r];
+    double sum = 0.0, worstMeanSquare = 0.0;
+    if (m_quadric[r].weight > 0.0) worstMeanSquare = m_quadric[r].evaluate(at) / m_quadric[r].weight;
+    for (std::uint32_t v : m_members) {
+      sum += memberCost(v, r);
+      const Quadric& q = m_quadric[v];
+      if (q.weight > 0.0) worstMeanSquare = std::max(worstMeanSquare, q.evaluate(at) / q.weight);
+    }
+    m_priority = sum / double(m_members.size());
+    m_error = static_cast<float>(std::sqrt(worstMeanSquare) * m_diagonal);
+  }
+
+  // --- Taking a step -------------------------------------------------------------------
+
+  // Seed step 4: the members (marked, from the last evaluate(r)) join r; triangles with
+  // two or three marked corners vanish, the others are re-pointed at r.
+  void gather(std::uint32_t r) {
+    for (std::uint32_t v : m_members) {
+      for (std::uint32_t t : m_fan[v]) {
+        if (!m_triangleAlive[t]) continue;
+        std::uint32_t* c = &m_corner[3 * t];
+        const int marked = (m_mark[c[0]] == m_stamp) + (m_mark[c[1]] == m_stamp) + (m_mark[c[2]] == m_stamp);
+        if (marked >= 2) {
+          m_triangleAlive[t] = 0;
+          --m_liveTriangles;
+          continue;
+        }
+        for (int k = 0; k < 3; ++k)
+          if (c[k] == v) c[k] = r;
+        m_fan[r].push_back(t);
+      }
+      std::vector<std::uint32_t>().swap(m_fan[v]);
+      m_alive[v] = 0;
+      ++m_version[v];
+      m_quadric[r] += m_quadric[v];
+      if (m_useColours) {
+        m_moment0[r] += m_moment0[v];
+        m_moment1[r] += m_moment1[v];
+        m_moment2[r] += m_moment2[v];
+      }
+    }
+    compactFan(r);  // the only fan that grows: keep it free of dead triangles
+  }
+
+  void compactFan(std::uint32_t v) {
+    std::vector<std::uint32_t>& fan = m_fan[v];
+    std::erase_if(fan, [&](std::uint32_t t) { return !m_triangleAlive[t]; });
+  }
+
+  // Seed step 6 updates the weights of the representative's neighbours: a corner or
+  // feature-line vertex around which the current mesh has no sharp edge left (a crease of
+  // noise that the coarser mesh smoothed over) becomes simple, a boundary corner whose
+  // current outline runs straight on becomes a boundary vertex. Classes only ever relax,
+  // so a smooth surface never grows features, and a real crease keeps its sharp edges.
+  bool demoteFadedFeature(std::uint32_t x) {
+    if (m_class[x] != VertexClass::Corner && m_class[x] != VertexClass::SharpEdge) return false;
+    compactFan(x);
+    m_links.clear();
+    for (std::uint32_t t : m_fan[x])
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t y = m_corner[3 * t + k];
+        if (y == x) continue;
+        auto link = std::find_if(m_links.begin(), m_links.end(), [y](const Link& l) { return l.vertex == y; });
+        if (link == m_links.end()) m_links.push_back({y, 1, t, kNone});
+        else if (++link->triangles == 2) link->second = t;
+      }
+    std::uint32_t boundary[2] = {kNone, kNone};
+    int boundaryEdges = 0;
+    for (const Link& l : m_links) {
+      if (l.triangles > 2) return false;
+      if (l.triangles == 1) {
+        if (boundaryEdges < 2) boundary[boundaryEdges] = l.vertex;
+        ++boundaryEdges;
+      } else if (isSharp(x, l.vertex, l.first, l.second)) {
+        return false;
+      }
+    }
+    if (boundaryEdges == 0) {
+      m_class[x] = VertexClass::Simple;
+      return true;
+    }
+    if (boundaryEdges != 2 || m_class[x] != VertexClass::Corner) return false;
+    const glm::dvec3 in = m_position[x] - m_position[boundary[0]], out = m_position[boundary[1]] - m_position[x];
+    const double lengths = glm::length(in) * glm::length(out);
+    if (!(lengths > 0.0) || glm::dot(in, out) < m_featureCosine * lengths) return false;
+    m_class[x] = VertexClass::Boundary;
+    return true;
+  }
+
+  // Whether the current triangles s and t on edge (x, y) meet at more than the feature angle.
+  bool isSharp(std::uint32_t x, std::uint32_t y, std::uint32_t s, std::uint32_t t) const {
+    auto normal = [&](std::uint32_t u) {
+      const glm::dvec3& a = m_position[m_corner[3 * u]];
+      return glm::cross(m_position[m_corner[3 * u + 1]] - a, m_position[m_corner[3 * u + 2]] - a);
+    };
+    auto runsForward = [&](std::uint32_t u) {  // u's corners go x -> y
+      for (int k = 0; k < 3; ++k)
+        if (m_corner[3 * u + k] == x) return m_corner[3 * u + (k + 1) % 3] == y;
+      return false;
+    };
+    const glm::dvec3 ns = normal(s), nt = normal(t) * (runsForward(s) != runsForward(t) ? 1.0 : -1.0);
+    const double lengths = glm::length(ns) * glm::length(nt);
+    return lengths > 0.0 && glm::dot(ns, nt) < m_featureCosine * lengths;
+  }
+
+  // r's current neighbours, each once.
+  void collectRing(std::uint32_t r) {
+    m_ring.clear();
+    ++m_ringStamp;
+    m_ringMark[r] = m_ringStamp;
+    compactFan(r);
+    for (std::uint32_t t : m_fan[r])
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t x = m_corner[3 * t + k];
+        if (m_ringMark[x] == m_ringStamp) continue;
+        m_ringMark[x] = m_ringStamp;
+        m_ring.push_back(x);
+      }
+  }
+
+  const TriangleMesh& m_mesh;
+  const RegionPartition& m_partition;
+  const ClusterOptions& m_options;
+  std::uint32_t m_vertexCount = 0;
+  double m_diagonal = 1.0;
+  double m_cellLimit = 2.0;
+  double m_featureCosine = 0.0;
+  std::vector<glm::dvec3> m_position;  // translated and scaled to a unit diagonal
+  std::vector<std::uint32_t> m_corner;
+  std::vector<std::uint8_t> m_triangleAlive;
+  std::uint32_t m_liveTriangles = 0;
+  std::vector<std::vector<std::uint32_t>> m_fan;  // may hold dead triangles until compacted
+  std::vector<Quadric> m_quadric;                 // per vertex: the planes of its cluster
+  bool m_useColours = false;
+  std::vector<glm::dvec3> m_colour;  // RGB times colourWeight
+  std::vector<double> m_moment0, m_moment2;
+  std::vector<glm::dvec3> m_moment1;
+  std::vector<VertexClass> m_class;
+  std::vector<std::uint8_t> m_colourBorder;
+  std::vector<std::uint32_t> m_line;         // feature line of a sharp-edge vertex
+  std::vector<std::uint64_t> m_cornerLines;  // sorted lineKey(corner, line) of lines ending at corners
+  std::vector<std::uint8_t> m_alive;
+  std::vector<double> m_cell;  // per vertex: its floating cell's size tau
+  std::vector<std::uint32_t> m_version;
+  std::vector<std::uint8_t> m_queued;  // has a current entry in the heap
+  std::vector<HeapEntry> m_heap;
+  // Scratch of the last evaluation.
+  std::vector<std::uint32_t> m_mark, m_ringMark;
+  std::uint32_t m_stamp = 0, m_ringStamp = 0;
+  std::vector<std::uint32_t> m_members, m_parent, m_ring;
+  std::vector<std::uint8_t> m_dropped;
+  std::vector<Link> m_links;
+  std::vector<std::uint32_t> m_memberIndex;  // per vertex: its index in m_members when marked
+  // Pinch check scratch: per vertex and per triangle stamps, per vertex counts.
+  std::uint32_t m_linkStamp = 0;
+  std::vector<std::uint32_t> m_linkSeen, m_triangleSeen, m_keptOnEdge, m_vanishing, m_touched;
+  std::vector<double> m_memberCost;
+  double m_priority = 0.0;
+  float m_error = 0.0f;
+};
+
+}  // namespace
+
+Result<SimplificationSteps> buildClusterSteps(const TriangleMesh& mesh, const RegionPartition& partition,
+                                              const ClusterOptions& options) {
+  if (Status s = validateMesh(mesh, "cluster builder input"); !s) return s.error();
+  if (Status s = validatePartition(partition, mesh.vertexCount(), "cluster builder regions"); !s) return s.error();
+  if (!(options.initialCellFraction >= 0.0) || !std::isfinite(options.initialCellFraction))
+    return makeError(ErrorKind::InvalidArgument, "cluster builder: initialCellFraction must be finite and >= 0");
+  if (!(options.cellGrowth > 1.0) || !std::isfinite(options.cellGrowth))
+    return makeError(ErrorKind::InvalidArgument, "cluster builder: cellGrowth must be finite and > 1");
+  if (!(options.colourWeight >= 0.0) || !std::isfinite(options.colourWeight))
+    return makeError(ErrorKind::InvalidArgument, "cluster builder: colourWeight must be finite and >= 0");
+  if (!(options.featureAngleDegrees >= 0.0 && options.featureAngleDegrees <= 180.0))
+    return makeError(ErrorKind::InvalidArgument, "cluster builder: featureAngleDegrees must lie in [0, 180]");
+  return ClusterBuilder(mesh, partition, options).run();
+}
+
+}  // namespace polder::mesh

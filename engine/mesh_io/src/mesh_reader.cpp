@@ -1,0 +1,246 @@
+// readMesh: our structure checks, then Assimp, then merging, baking, welding and normals.
+#include <polder/mesh_io/mesh_file.hpp>
+
+#include <assimp/IOStream.hpp>
+#include <assimp/IOSystem.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <exception>
+#include <fstream>
+#include <limits>
+#include <new>
+#include <string>
+#include <system_error>
+
+#include "obj_check.hpp"
+#include "ply_check.hpp"
+#include "text_scan.hpp"
+#include "texture_bake.hpp"
+#include "vertex_merge.hpp"
+
+namespace polder::mesh_io {
+namespace {
+
+enum class MeshFormat { Obj, Ply };
+
+std::string lowerExtension(const std::filesystem::path& file) {
+  std::string extension = file.extension().string();
+  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return extension;
+}
+
+Result<std::string> readWholeFile(const std::filesystem::path& file) {
+  std::error_code code;
+  const auto status = std::filesystem::status(file, code);
+  if (!std::filesystem::exists(status)) return makeError(ErrorKind::Io, "the file does not exist");
+  if (std::filesystem::is_directory(status)) return makeError(ErrorKind::Io, "is a directory, not a file");
+  const std::uintmax_t size = std::filesystem::file_size(file, code);
+  if (code) return makeError(ErrorKind::Io, "cannot read the file size: " + code.message());
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return makeError(ErrorKind::Io, "cannot open the file: " + std::generic_category().message(errno));
+  std::string bytes;
+  try {
+    bytes.resize(std::size_t(size));
+  } catch (const std::exception&) {
+    return makeError(ErrorKind::OutOfMemory, "not enough memory to read the file");
+  }
+  in.read(bytes.data(), std::streamsize(bytes.size()));
+  if (std::uintmax_t(in.gcount()) != size)
+    return makeError(ErrorKind::Io, "could read only " + std::to_string(in.gcount()) + " of its " +
+                                        std::to_string(size) + " bytes");
+  return bytes;
+}
+
+// The importer gets the file from memory; every other file it asks for (an OBJ's mtllib)
+// is refused, so nothing outside the checked bytes is read. Materials are not used.
+class NoFileSystem : public Assimp::IOSystem {
+ public:
+  bool Exists(const char*) const override { return false; }
+  char getOsSeparator() const override { return '/'; }
+  Assimp::IOStream* Open(const char*, const char*) override { return nullptr; }
+  void Close(Assimp::IOStream* stream) override { delete stream; }
+};
+
+// Assimp's meshes as they come, before any merging of vertices: normals are zero where a
+// mesh has none (when some have), colours white, texture coordinates (0, 0).
+struct Imported {
+  mesh::TriangleMesh mesh;
+  bool fileHasNormals = false;
+};
+
+float unitColour(float value) { return std::isfinite(value) ? std::clamp(value, 0.0f, 1.0f) : 0.0f; }
+
+Result<Imported> mergeMeshes(const aiScene& scene) {
+  bool anyNormals = false, anyColours = false, anyUvs = false;
+  std::size_t vertexTotal = 0;
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    const aiMesh* part = scene.mMeshes[m];
+    if (!part || !part->mVertices) continue;
+    anyNormals = anyNormals || part->HasNormals();
+    anyColours = anyColours || part->HasVertexColors(0);
+    anyUvs = anyUvs || part->HasTextureCoords(0);
+    vertexTotal += part->mNumVertices;
+  }
+  if (vertexTotal > std::numeric_limits<std::uint32_t>::max())
+    return makeError(ErrorKind::Unsupported, "more than 2^32 - 1 vertices");
+  Imported imported;
+  imported.fileHasNormals = anyNormals;
+  mesh::TriangleMesh& merged = imported.mesh;
+  merged.positions.reserve(vertexTotal);
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    const aiMesh* part = scene.mMeshes[m];
+    if (!part || !part->mVertices) continue;
+    const std::uint32_t base = std::uint32_t(merged.positions.size());
+    for (unsigned i = 0; i < part->mNumVertices; ++i) {
+      const aiVector3D& p = part->mVertices[i];
+      merged.positions.emplace_back(p.x, p.y, p.z);
+      if (anyNormals) {
+        const aiVector3D n = part->HasNormals() ? part->mNormals[i] : aiVector3D(0.0f);
+        merged.normals.emplace_back(n.x, n.y, n.z);
+      }
+      if (anyColours) {
+        const aiColor4D c = part->HasVertexColors(0) ? part->mColors[0][i] : aiColor4D(1.0f, 1.0f, 1.0f, 1.0f);
+        merged.colours.emplace_back(unitColour(c.r), unitColour(c.g), unitColour(c.b), unitColour(c.a));
+      }
+      if (anyUvs) {
+        const aiVector3D t = part->HasTextureCoords(0) ? part->mTextureCoords[0][i] : aiVector3D(0.0f);
+        merged.uvs.emplace_back(t.x, t.y);
+      }
+    }
+    for (unsigned f = 0; f < part->mNumFaces; ++f) {
+      const aiFace& face = part->mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines
+      for (int k = 0; k < 3; ++k) merged.indices.push_back(base + face.mIndices[k]);
+    }
+  }
+  return imported;
+}
+
+// Indices are checked before triangulation: Assimp's PLY reader passes any index through,
+// and triangulating a polygon with an index out of range reads outside the vertex array.
+Status checkFaceIndices(const aiScene& scene) {
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    const aiMesh* part = scene.mMeshes[m];
+    if (!part) continue;
+    if (part->mNumFaces > 0 && !part->mFaces) return makeError(ErrorKind::InvalidData, "a mesh has faces without data");
+    const std::string where = scene.mNumMeshes > 1 ? " of mesh " + std::to_string(m + 1) : std::string();
+    for (unsigned f = 0; f < part->mNumFaces; ++f) {
+      const aiFace& face = part->mFaces[f];
+      if (face.mNumIndices > 0 && !face.mIndices) return makeError(ErrorKind::InvalidData, "a face has no index data");
+      for (unsigned k = 0; k < face.mNumIndices; ++k) {
+        if (face.mIndices[k] >= part->mNumVertices || !part->mVertices)
+          return makeError(ErrorKind::InvalidData, "face " + std::to_string(f + 1) + where + " refers to vertex " +
+                                                       std::to_string(face.mIndices[k]) + " (counting from 0) of " +
+                                                       std::to_string(part->mNumVertices));
+      }
+    }
+  }
+  return {};
+}
+
+Result<Imported> importWithAssimp(const std::string& bytes, MeshFormat format) {
+  try {
+    Assimp::Importer importer;
+    importer.SetIOHandler(new NoFileSystem);  // the importer owns it
+    // Read without post-processing first, so the indices can be checked before
+    // triangulation uses them. No aiProcess_JoinIdenticalVertices: it merges positions up
+    // to an epsilon and treats NaN as equal to anything (see vertex_merge.hpp instead).
+    const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, format == MeshFormat::Obj ? "obj" : "ply");
+    if (!scene) return makeError(ErrorKind::InvalidData, "Assimp cannot read it: " + detail::oneLine(importer.GetErrorString()));
+    if (Status indices = checkFaceIndices(*scene); !indices) return indices.error();
+    scene = importer.ApplyPostProcessing(aiProcess_Triangulate);
+    if (!scene) return makeError(ErrorKind::InvalidData, "Assimp cannot triangulate it: " + detail::oneLine(importer.GetErrorString()));
+    return mergeMeshes(*scene);
+  } catch (const std::bad_alloc&) {
+    return makeError(ErrorKind::OutOfMemory, "not enough memory to import it");
+  } catch (const std::exception& exception) {
+    return makeError(ErrorKind::InvalidData, "Assimp failed: " + detail::oneLine(exception.what()));
+  } catch (...) {
+    return makeError(ErrorKind::InvalidData, "Assimp failed with an unknown exception");
+  }
+}
+
+// The file's normals where usable (normalised unless already unit), computed ones elsewhere.
+void resolveNormals(mesh::TriangleMesh& mesh, bool fileHasNormals) {
+  std::vector<glm::vec3> computed = mesh::computeVertexNormals(mesh.positions, mesh.indices);
+  if (!fileHasNormals) {
+    mesh.normals = std::move(computed);
+    return;
+  }
+  for (std::size_t i = 0; i < mesh.normals.size(); ++i) {
+    glm::vec3& normal = mesh.normals[i];
+    const float length = glm::length(normal);
+    if (!(length > 0.0f) || !std::isfinite(length))
+      normal = computed[i];
+    else if (std::fabs(length - 1.0f) > 1e-5f)  // leave unit normals bit for bit as read
+      normal /= length;
+  }
+}
+
+Result<mesh::TriangleMesh> readMeshUnguarded(const std::filesystem::path& file, const MeshReadOptions& options) {
+  const std::string name = file.string();
+  const auto named = [&](const Error& error) { return makeError(error.kind, name + ": " + error.message); };
+  const std::string extension = lowerExtension(file);
+  MeshFormat format;
+  if (extension == ".obj") format = MeshFormat::Obj;
+  else if (extension == ".ply") format = MeshFormat::Ply;
+  else
+    return named(makeError(ErrorKind::Unsupported, "unsupported mesh format '" + extension + "' (expected .obj or .ply)"));
+
+  Result<std::string> bytes = readWholeFile(file);
+  if (!bytes) return named(bytes.error());
+  if (bytes->empty()) return named(makeError(ErrorKind::InvalidData, "the file is empty"));
+  if (format == MeshFormat::Ply) {
+    if (Status structure = detail::checkPlyStructure(*bytes); !structure) return named(structure.error());
+  } else {
+    Result<std::string> normalized = detail::normalizeObj(*bytes);
+    if (!normalized) return named(normalized.error());
+    *bytes = std::move(*normalized);
+  }
+
+  Result<Imported> imported = importWithAssimp(*bytes, format);
+  if (!imported) return named(imported.error());
+  mesh::TriangleMesh& mesh = imported->mesh;
+  if (mesh.triangleCount() == 0)
+    return named(makeError(ErrorKind::InvalidData, "no triangles (nothing, or only points and lines)"));
+  if (Status valid = mesh::validateMesh(mesh, name); !valid) return valid.error();  // NaN positions
+
+  detail::joinIdenticalVertices(mesh);
+  if (!options.bakeTexture.empty()) {
+    if (!mesh.hasUvs())
+      return named(makeError(ErrorKind::InvalidArgument,
+                             "cannot bake " + options.bakeTexture.string() + ": the mesh has no texture coordinates"));
+    Result<std::vector<glm::vec4>> colours = detail::sampleTexture(options.bakeTexture, mesh.uvs);
+    if (!colours) return named(colours.error());
+    mesh.colours = std::move(*colours);
+  }
+  if (options.weldPositions) {
+    detail::weldPositions(mesh);
+    if (mesh.triangleCount() == 0)
+      return named(makeError(ErrorKind::InvalidData, "every triangle is degenerate after welding"));
+  }
+  resolveNormals(mesh, imported->fileHasNormals);
+  if (Status valid = mesh::validateMesh(mesh, name); !valid) return valid.error();
+  return std::move(mesh);
+}
+
+}  // namespace
+
+Result<mesh::TriangleMesh> readMesh(const std::filesystem::path& file, const MeshReadOptions& options) {
+  // Merging and welding allocate; nothing may escape the API as an exception.
+  try {
+    return readMeshUnguarded(file, options);
+  } catch (const std::bad_alloc&) {
+    return makeError(ErrorKind::OutOfMemory, file.string() + ": not enough memory to read the mesh");
+  } catch (const std::exception& exception) {
+    return makeError(ErrorKind::InvalidData, file.string() + ": " + detail::oneLine(exception.what()));
+  }
+}
+
+}  // namespace polder::mesh_io
