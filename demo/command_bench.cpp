@@ -45,6 +45,8 @@ struct BenchArguments {
   int blockSamples = 33;
   double cacheMb = 256.0;
   std::string json;
+  std::string scene;
+  bool framesGiven = false;
 };
 
 // What one pass over the path measured, frame by frame.
@@ -379,7 +381,21 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   command->add_option("--block", arguments->blockSamples, "Block size in samples: 17, 33, 65 or 129")->capture_default_str();
   command->add_option("--cache-mb", arguments->cacheMb, "LOD cache budget in MiB")->capture_default_str();
   command->add_option("--json", arguments->json, "Write the report here");
-  command->callback([arguments, &exitCode] { exitCode = runBench(*arguments); });
+  command->add_option("--scene", arguments->scene,
+                      "Run a scene file (terrain and mesh objects, docs/scene_format.md) instead of a DEM flight");
+  command->get_option("dem")->required(false);
+  command->callback([arguments, command, &exitCode] {
+    arguments->framesGiven = command->count("--frames") > 0;
+    if (!arguments->scene.empty()) {
+      exitCode = benchScene(arguments->scene, arguments->framesGiven ? std::optional<int>(arguments->frames) : std::nullopt,
+                            arguments->json);
+    } else if (arguments->dem.path.empty()) {
+      std::fprintf(stderr, "polder: error: bench needs a DEM or --scene SCENE.json\n");
+      exitCode = kExitUsage;
+    } else {
+      exitCode = runBench(*arguments);
+    }
+  });
 }
 
 }  // namespace polder::cli

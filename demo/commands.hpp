@@ -2,6 +2,9 @@
 // chosen, stores its exit code in `exitCode`.
 #pragma once
 
+#include <optional>
+#include <string>
+
 #include <CLI/CLI.hpp>
 
 namespace polder::cli {
@@ -13,5 +16,9 @@ void addQueryCommand(CLI::App& app, int& exitCode);
 void addFlyoverCommand(CLI::App& app, int& exitCode);
 void addBenchCommand(CLI::App& app, int& exitCode);
 void addSimplifyCommand(CLI::App& app, int& exitCode);
+void addSceneCommand(CLI::App& app, int& exitCode);
+
+// `polder bench --scene SCENE.json`: runs the scene's frames and reports them.
+int benchScene(const std::string& sceneFile, std::optional<int> frames, const std::string& jsonPath);
 
 }  // namespace polder::cli

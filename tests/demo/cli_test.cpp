@@ -292,8 +292,64 @@ TEST(PolderSimplify, BadInputGetsAClearMessageAndExitCode) {
   EXPECT_NE(run.exitCode, 0) << run.output;
 }
 
+TEST_F(PolderProgram, SceneRendersFramesAndBenchReportsObjectsAndTheAllocator) {
+  ScratchDir dir;
+  const std::string sphere = writeSphereObj(dir);
+  const std::string sceneFile = dir.file("scene.json").string();
+  std::ofstream(sceneFile) << R"({
+    "terrain": { "dem": ")" << dem() << R"(" },
+    "models": { "ball": { "file": ")" << sphere << R"(", "regions": 4 } },
+    "nodes": [ { "name": "balls", "model": "ball", "translate": [0, 0, 900], "scale": 60,
+                 "animation": { "type": "orbit", "centre": [1600, 1600], "radius": 500, "period_s": 5 },
+                 "repeat": { "count": 12, "phase_step_deg": 30 } } ],
+    "camera": { "path": "static", "pose": [1600, -1500, 2500, 0, -35], "size": "160x120" },
+    "lod": { "mode": "budget", "budget": 12000 },
+    "frames": 20
+  })";
+  const std::string frames = dir.file("frames").string();
+  ProgramRun run = runPolder("scene " + sceneFile + " --frames 3 --out " + frames);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_TRUE(std::filesystem::exists(frames + "/frame_00002.png"));
+
+  const std::string report = dir.file("report.json").string();
+  run = runPolder("bench --scene " + sceneFile + " --json " + report);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  std::ifstream in(report);
+  const auto json = nlohmann::json::parse(in);
+  EXPECT_EQ(json["objects"]["count"], 12);
+  EXPECT_GT(json["objects"]["regions"].get<double>(), 0.0);
+  EXPECT_GT(json["objects"]["triangles_mean"].get<double>(), 0.0);
+  EXPECT_TRUE(json["allocator_ms"].contains("median"));
+  EXPECT_TRUE(json["allocator_ms"].contains("p99"));
+  EXPECT_EQ(json["triangles"]["frames_within_budget"], 20);
+  EXPECT_LE(json["triangles"]["max"].get<double>(), 12000.0);
+}
+
+TEST(PolderScene, BadSceneFilesNameTheFileAndTheKey) {
+  ScratchDir dir;
+  const std::string sceneFile = dir.file("bad.json").string();
+  std::ofstream(sceneFile) << R"({ "nodes": [ { "name": "a", "parent": "nobody" } ] })";
+  ProgramRun run = runPolder("scene " + sceneFile);
+  EXPECT_EQ(run.exitCode, 1);
+  EXPECT_NE(run.output.find("bad.json: nodes[0].parent"), std::string::npos) << run.output;
+  std::ofstream(sceneFile) << "{ not json";
+  run = runPolder("scene " + sceneFile);
+  EXPECT_EQ(run.exitCode, 1);
+  EXPECT_NE(run.output.find("not valid JSON"), std::string::npos) << run.output;
+  std::ofstream(sceneFile) << R"({ "models": { "m": { "file": "missing.obj" } } })";
+  run = runPolder("scene " + sceneFile);
+  EXPECT_EQ(run.exitCode, 1);
+  EXPECT_NE(run.output.find("missing.obj"), std::string::npos) << run.output;
+  std::ofstream(sceneFile) << R"({ "nodes": [ { "animation": { "type": "wobble" } } ] })";
+  run = runPolder("scene " + sceneFile);
+  EXPECT_EQ(run.exitCode, 1);
+  EXPECT_NE(run.output.find("unknown animation"), std::string::npos) << run.output;
+  run = runPolder("bench");
+  EXPECT_EQ(run.exitCode, 2) << run.output;
+}
+
 TEST(PolderProgramHelp, EverySubcommandHasHelp) {
-  for (const char* command : {"info", "gen", "render", "query", "flyover", "bench", "simplify"}) {
+  for (const char* command : {"info", "gen", "render", "query", "flyover", "bench", "simplify", "scene"}) {
     const ProgramRun run = runPolder(std::string(command) + " --help");
     EXPECT_EQ(run.exitCode, 0) << command << ": " << run.output;
     EXPECT_NE(run.output.find("Usage"), std::string::npos) << command;

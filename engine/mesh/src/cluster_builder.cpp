@@ -129,8 +129,8 @@ class ClusterBuilder {
  private:
   // Seed step 1 with a lazy queue: the neighbourhood of an entry may have changed since it
   // was made, so the popped vertex is evaluated again and only taken if its current cost
-  // still beats every other entry; otherwise it goes back with that cost. On true, r and
-  // m_members hold the step to take.
+  // (after the geometric checks) still beats every other entry; otherwise it goes back
+  // with that cost. On true, r and m_members hold the step to take.
   bool nextRepresentative(std::uint32_t& r) {
     for (;;) {
       dropStaleTop();
@@ -139,8 +139,15 @@ class ClusterBuilder {
       r = m_heap.back().vertex;
       m_heap.pop_back();
       m_queued[r] = 0;
-      if (!evaluate(r, true)) continue;
+      if (!evaluate(r, false)) continue;
       dropStaleTop();
+      if (!m_heap.empty() && m_priority > m_heap.front().priority) {
+        push(r);
+        continue;
+      }
+      // Only a cluster about to be taken gets the geometric checks.
+      if (validateCluster(r)) scoreCluster(r);
+      else if (!evaluate(r, true)) continue;
       if (m_heap.empty() || m_priority <= m_heap.front().priority) return true;
       push(r);
     }
@@ -442,21 +449,23 @@ class ClusterBuilder {
   bool evaluate(std::uint32_t r, bool validate) {
     for (;;) {
       growTree(r, m_cell[r]);
-      if (!m_members.empty()) {
-        dropCostlyMembers(r);
-        if (validate) {
-          do dropFlippingMembers(r);
-          while (dropAPinchingMember(r));
-        }
-        removeDroppedMembers();
-      }
-      if (validate && !m_members.empty() && !keepsATriangle(r)) m_members.clear();
-      if (!m_members.empty()) break;
+      dropCostlyMembers(r);
+      if (!m_members.empty() && (!validate || validateCluster(r))) break;
       if (m_cell[r] >= m_cellLimit) return false;
       m_cell[r] = std::min(m_cell[r] * m_options.cellGrowth, m_cellLimit);
     }
     scoreCluster(r);
     return true;
+  }
+
+  // Drops the members whose move would flip a triangle or pinch the surface; false when
+  // nothing is left to gather, or when the step would remove r's piece of surface whole.
+  bool validateCluster(std::uint32_t r) {
+    m_dropped.assign(m_members.size(), 0);
+    do dropFlippingMembers(r);
+    while (dropAPinchingMember(r));
+    removeDroppedMembers();
+    return !m_members.empty() && keepsATriangle(r);
   }
 
   // Seed steps 2 and 3: the spanning tree of r over current edges, breadth first, through
@@ -532,11 +541,11 @@ class ClusterBuilder {
   }
 
   // Seed step 3, "vertices that can be clustered": a member whose cost is far above the
-  // cluster's mean (across a ridge, up a flank) stays out, with its subtree. The cluster
-  // then stretches along directions that cost little, as on a cylinder.
+  // cluster's mean (across a ridge, up a flank) stays out, with its subtree, so clusters
+  // follow the directions that cost little (along a cylinder rather than around it).
   void dropCostlyMembers(std::uint32_t r) {
-    m_dropped.assign(m_members.size(), 0);
     if (m_members.size() < 2) return;
+    m_dropped.assign(m_members.size(), 0);
     m_memberCost.resize(m_members.size());
     double sum = 0.0;
     for (std::size_t i = 0; i < m_members.size(); ++i) sum += m_memberCost[i] = memberCost(m_members[i], r);
@@ -545,6 +554,7 @@ class ClusterBuilder {
       if (m_memberCost[i] > limit || (m_parent[i] != kNone && m_dropped[m_parent[i]])) m_dropped[i] = 1;
       if (m_dropped[i]) m_mark[m_members[i]] = 0;
     }
+    removeDroppedMembers();
   }
 
   // Drops members whose move onto r would flip a surviving triangle, until none does.
@@ -624,11 +634,20 @@ class ClusterBuilder {
     return count;
   }
 
+  // Compacts m_members, renumbering parents (a kept member's parent is kept too).
   void removeDroppedMembers() {
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < m_members.size(); ++i)
-      if (!m_dropped[i]) m_members[kept++] = m_members[i];
+    m_newIndex.resize(m_members.size());
+    std::uint32_t kept = 0;
+    for (std::size_t i = 0; i < m_members.size(); ++i) {
+      if (m_dropped[i]) continue;
+      m_newIndex[i] = kept;
+      m_members[kept] = m_members[i];
+      m_parent[kept] = m_parent[i] == kNone ? kNone : m_newIndex[m_parent[i]];
+      m_memberIndex[m_members[kept]] = kept;
+      ++kept;
+    }
     m_members.resize(kept);
+    m_parent.resize(kept);
   }
 
   // Whether moving member v onto r turns a triangle that keeps existing (one with no other
@@ -843,6 +862,7 @@ class ClusterBuilder {
   std::uint32_t m_linkStamp = 0;
   std::vector<std::uint32_t> m_linkSeen, m_triangleSeen, m_keptOnEdge, m_vanishing, m_touched;
   std::vector<double> m_memberCost;
+  std::vector<std::uint32_t> m_newIndex;
   double m_priority = 0.0;
   float m_error = 0.0f;
 };

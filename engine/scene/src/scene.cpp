@@ -156,7 +156,9 @@ const SceneStats& Scene::update(const Camera& camera, double timeS) {
     if (!state.instance) continue;
     ++m_stats.objects;
     state.instance->resolveBorders();
-    transformVertices(state);
+    // Objects out of view keep their old vertices; they are brought up to date when they return.
+    if (std::find(state.regionVisible.begin(), state.regionVisible.end(), 1) != state.regionVisible.end())
+      transformVertices(state);
     bool anyVisible = false;
     for (std::uint32_t r = 0; r < state.regionVisible.size(); ++r) {
       if (!state.regionVisible[r]) continue;

@@ -1,0 +1,181 @@
+// polder scene SCENE.json: terrain and mesh objects under one triangle budget, rendered
+// headless to PNG frames; and `polder bench --scene`, the same frames measured.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include <polder/terrain/image_writer.hpp>
+
+#include "bench_statistics.hpp"
+#include "cli_support.hpp"
+#include "commands.hpp"
+#include "scene_file.hpp"
+#include "terrain_drawing.hpp"
+
+namespace polder::cli {
+namespace {
+
+struct SceneArguments {
+  std::string file;
+  std::optional<int> frames;
+  std::string out;
+  int every = 1;
+};
+
+void drawScene(render::Renderer& renderer, scene::Scene& scene, const Camera& camera, const TerrainStyle& style) {
+  renderer.beginFrame(camera, style);
+  if (TerrainEngine* terrain = scene.terrain()) {
+    const TerrainFrameMeshes meshes = terrain->frameMeshes();
+    for (const MeshData& mesh : meshes.blocks) (void)renderer.drawTransient(drawItemOf(mesh));
+    for (const MeshData& mesh : meshes.dikes) (void)renderer.drawTransient(drawItemOf(mesh));
+  }
+  for (const DrawItem& item : scene.objectDrawItems()) (void)renderer.drawTransient(item);
+}
+
+// Per-frame figures of a scene run.
+struct SceneRun {
+  std::vector<double> triangles, objectTriangles, regions, allocatorMs, totalMs, visibleObjects, objectsMs, terrainMs;
+  int framesWithinBudget = 0;
+  std::size_t objects = 0;
+  std::size_t allocatedRegionsMax = 0;
+};
+
+Result<SceneRun> runScene(LoadedScene& loaded, int frames, const std::string& outDir, int every) {
+  std::optional<HeadlessRenderer> headless;
+  if (!outDir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(outDir, ec);
+    if (ec) return makeError(ErrorKind::Io, outDir + ": cannot create the folder (" + ec.message() + ")");
+    auto created = createHeadlessRenderer(loaded.lens.widthPx, loaded.lens.heightPx);
+    if (!created) return created.error();
+    headless = std::move(*created);
+  }
+  SceneRun run;
+  const bool budget = loaded.scene->options().mode == LodMode::TriangleBudget;
+  const std::uint64_t budgetTriangles = loaded.scene->options().budgetTriangles;
+  ProgressBar progress(headless ? "rendering" : "running");
+  RgbaImage image;
+  for (int index = 0; index < frames; ++index) {
+    const Camera camera = sceneCamera(loaded, index);
+    const scene::SceneStats& stats = loaded.scene->update(camera, index / 60.0);
+    run.triangles.push_back(double(stats.triangles()));
+    run.objectTriangles.push_back(double(stats.objectTriangles));
+    run.regions.push_back(double(stats.regions));
+    run.visibleObjects.push_back(double(stats.visibleObjects));
+    run.allocatorMs.push_back(stats.allocatorMs);
+    run.totalMs.push_back(stats.totalMs);
+    run.objectsMs.push_back(stats.objectsMs);
+    run.terrainMs.push_back(stats.terrain.totalMs);
+    run.objects = stats.objects;
+    run.allocatedRegionsMax = std::max(run.allocatedRegionsMax, stats.allocatedRegions);
+    run.framesWithinBudget += budget && stats.triangles() <= budgetTriangles && stats.triangles() >= budgetTriangles * 9 / 10;
+    if (headless && index % every == 0) {
+      drawScene(*headless->renderer, *loaded.scene, camera, loaded.style);
+      if (Status s = headless->renderer->endFrame(); !s) return s.error();
+      if (Status s = headless->renderer->readPixels(image); !s) return s.error();
+      makeOpaque(image);
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%05d.png", index);
+      if (Status s = terrain::writeRgbaPng(std::filesystem::path(outDir) / name, image); !s) return s.error();
+    }
+    progress.update(float(index + 1) / float(frames));
+  }
+  return run;
+}
+
+void printRun(const LoadedScene& loaded, const SceneRun& run, int frames) {
+  const scene::SceneOptions& options = loaded.scene->options();
+  const Percentiles allocator = percentiles(run.allocatorMs), total = percentiles(run.totalMs);
+  std::printf("%-30s %d frames, %s\n", "scene", frames,
+              options.mode == LodMode::TriangleBudget ? ("budget " + std::to_string(options.budgetTriangles) + " triangles").c_str()
+                                                      : ("tau " + std::to_string(options.tauPx) + " px").c_str());
+  std::printf("%-30s %.0f mean, %.0f max\n", "triangles per frame", mean(run.triangles),
+              run.triangles.empty() ? 0.0 : *std::max_element(run.triangles.begin(), run.triangles.end()));
+  if (options.mode == LodMode::TriangleBudget)
+    std::printf("%-30s %d of %d\n", "frames within 0.9P..P", run.framesWithinBudget, frames);
+  std::printf("%-30s %zu (%.1f visible), %.1f regions in view, %.0f triangles\n", "objects", run.objects,
+              mean(run.visibleObjects), mean(run.regions), mean(run.objectTriangles));
+  std::printf("%-30s %.3f median, %.3f p99 (%zu regions at most)\n", "allocator ms", allocator.median, allocator.p99,
+              run.allocatedRegionsMax);
+  std::printf("%-30s %.3f median, %.3f p99 (terrain %.3f, objects %.3f median)\n", "cpu ms per frame", total.median,
+              total.p99, percentiles(run.terrainMs).median, percentiles(run.objectsMs).median);
+}
+
+int runSceneCommand(const SceneArguments& arguments) {
+  if (arguments.every < 1) return reportError(makeError(ErrorKind::InvalidArgument, "--every must be at least 1"));
+  auto loaded = loadSceneFile(arguments.file);
+  if (!loaded) return reportError(loaded.error());
+  const int frames = arguments.frames.value_or(loaded->frames);
+  if (frames < 1) return reportError(makeError(ErrorKind::InvalidArgument, "--frames must be at least 1"));
+  auto run = runScene(*loaded, frames, arguments.out, arguments.every);
+  if (!run) return reportError(run.error());
+  printRun(*loaded, *run, frames);
+  if (!arguments.out.empty()) std::printf("%-30s %s\n", "frames written to", arguments.out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int benchScene(const std::string& sceneFile, std::optional<int> frames, const std::string& jsonPath) {
+  auto loaded = loadSceneFile(sceneFile);
+  if (!loaded) return reportError(loaded.error());
+  const int frameCount = frames.value_or(loaded->frames);
+  if (frameCount < 1) return reportError(makeError(ErrorKind::InvalidArgument, "--frames must be at least 1"));
+  auto run = runScene(*loaded, frameCount, "", 1);
+  if (!run) return reportError(run.error());
+  printRun(*loaded, *run, frameCount);
+  const scene::SceneOptions& options = loaded->scene->options();
+  const nlohmann::json report = {
+      {"scene", sceneFile},
+      {"config",
+       {{"mode", options.mode == LodMode::TriangleBudget ? "budget" : "error"},
+        {"budget_tris", options.mode == LodMode::TriangleBudget ? nlohmann::json(options.budgetTriangles) : nlohmann::json(nullptr)},
+        {"tau_px", options.tauPx},
+        {"alpha", options.alpha},
+        {"frames", frameCount},
+        {"width_px", loaded->lens.widthPx},
+        {"height_px", loaded->lens.heightPx}}},
+      {"triangles",
+       {{"mean", mean(run->triangles)},
+        {"max", run->triangles.empty() ? 0.0 : *std::max_element(run->triangles.begin(), run->triangles.end())},
+        {"frames_within_budget", options.mode == LodMode::TriangleBudget ? nlohmann::json(run->framesWithinBudget) : nlohmann::json(nullptr)}}},
+      {"objects",
+       {{"count", run->objects},
+        {"visible_mean", mean(run->visibleObjects)},
+        {"regions", mean(run->regions)},
+        {"triangles_mean", mean(run->objectTriangles)}}},
+      {"allocator_ms", {{"median", percentiles(run->allocatorMs).median}, {"p99", percentiles(run->allocatorMs).p99}}},
+      {"cpu_ms",
+       {{"total", {{"median", percentiles(run->totalMs).median}, {"p99", percentiles(run->totalMs).p99}}},
+        {"terrain", {{"median", percentiles(run->terrainMs).median}, {"p99", percentiles(run->terrainMs).p99}}},
+        {"objects", {{"median", percentiles(run->objectsMs).median}, {"p99", percentiles(run->objectsMs).p99}}}}},
+      {"memory", {{"peak_rss_mb", peakRssMb()}}},
+  };
+  if (!jsonPath.empty()) {
+    std::ofstream out(jsonPath);
+    out << report.dump(2) << "\n";
+    if (!out) return reportError(makeError(ErrorKind::Io, jsonPath + ": cannot write the report"));
+    std::printf("%-30s %s\n", "report", jsonPath.c_str());
+  }
+  const bool budgetHeld = options.mode != LodMode::TriangleBudget || run->framesWithinBudget == frameCount;
+  return budgetHeld ? 0 : kExitData;
+}
+
+void addSceneCommand(CLI::App& app, int& exitCode) {
+  auto arguments = std::make_shared<SceneArguments>();
+  CLI::App* command = app.add_subcommand("scene", "Run a scene file (terrain, mesh objects, animation) and render its frames");
+  command->add_option("scene", arguments->file, "Scene file (JSON, see docs/scene_format.md)")->required();
+  command->add_option("--frames", arguments->frames, "Frames to run (default: the scene's)");
+  command->add_option("--out", arguments->out, "Render frames headless (OSMesa) into this folder as PNG");
+  command->add_option("--every", arguments->every, "Render every Nth frame")->capture_default_str();
+  command->callback([arguments, &exitCode] { exitCode = runSceneCommand(*arguments); });
+}
+
+}  // namespace polder::cli
