@@ -261,6 +261,16 @@ class CollapseBuilder {
     return std::max(0.0, m_moment0[v] * squared - 2.0 * dot + m_moment2[v]);
   }
 
+  // The mean (not the sum) of the removed cluster's squared plane distances at u's position,
+  // plus its mean attribute deviation: a sum would let vertices carrying little area travel
+  // far cheaply, keeping the RMS distance low while the worst one grows.
+  float collapseCost(std::uint32_t v, std::uint32_t u) const {
+    const Quadric& q = m_quadric[v];
+    double cost = q.evaluate(m_position[u]) / std::max(q.weight, 1e-30);
+    if (m_dims > 0) cost += attributeCost(v, u) / std::max(m_moment0[v], 1e-30);
+    return static_cast<float>(cost);
+  }
+
   float clusterError(std::uint32_t u) const {
     const Quadric& q = m_quadric[u];
     if (q.weight <= 0.0) return 0.0f;
@@ -282,8 +292,7 @@ class CollapseBuilder {
       if (m_partition.regionOf(n.vertex) != region) continue;
       if (m_kind[v] == VertexKind::Border && n.sharedTriangles != 1) continue;
       if (m_colourBorder[v] && (!m_colourBorder[n.vertex] || coloursDiffer(v, n.vertex))) continue;
-      const double cost = m_quadric[v].evaluate(m_position[n.vertex]) + attributeCost(v, n.vertex);
-      m_options_scratch.push_back({static_cast<float>(cost), n.vertex, 0});
+      m_options_scratch.push_back({collapseCost(v, n.vertex), n.vertex, 0});
     }
     auto cheaper = [](const HeapEntry& x, const HeapEntry& y) { return x.cost < y.cost; };
     if (validate) std::sort(m_options_scratch.begin(), m_options_scratch.end(), cheaper);
@@ -377,11 +386,27 @@ class CollapseBuilder {
       for (int k = 0; k < m_dims; ++k) m_moment1[std::size_t(u) * m_dims + k] += m_moment1[std::size_t(v) * m_dims + k];
     }
     ++m_version[v];
-    // u's quadric changed; v's old neighbours lost a target and gained u. Everyone else keeps
-    // the costs of their options (a target's position never moves); validity is checked at the pop.
+    // u's quadric changed. v's old neighbours gained the option u (kept if cheaper than
+    // theirs) and those aiming at v lost theirs. Everyone else keeps the costs of their
+    // options (a target's position never moves); validity is checked at the pop.
     updateCandidate(u, false);
-    for (std::size_t i = 0; i < m_ring.size(); ++i)
-      if (m_ring[i].vertex != u) updateCandidate(m_ring[i].vertex, false);
+    for (std::size_t i = 0; i < m_ring.size(); ++i) {
+      const std::uint32_t x = m_ring[i].vertex;
+      if (x == u || !m_alive[x] || m_kind[x] == VertexKind::Locked) continue;
+      if (m_target[x] == v || m_kind[x] == VertexKind::Border) {
+        updateCandidate(x, false);
+        continue;
+      }
+      if (m_partition.regionOf(x) != m_partition.regionOf(u)) continue;
+      if (m_colourBorder[x] && (!m_colourBorder[u] || coloursDiffer(x, u))) continue;
+      const float cost = collapseCost(x, u);
+      if (m_target[x] != kNone && !(cost < m_cost[x])) continue;
+      ++m_version[x];
+      m_target[x] = u;
+      m_cost[x] = cost;
+      m_heap.push_back({cost, x, m_version[x]});
+      std::push_heap(m_heap.begin(), m_heap.end(), std::greater<>());
+    }
   }
 
   const TriangleMesh& m_mesh;

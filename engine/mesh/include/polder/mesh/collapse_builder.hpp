@@ -24,8 +24,8 @@ struct CollapseOptions {
   // Weights of the attribute term; a difference of 1 in an attribute costs as much as a
   // distance of `weight` bounding-box diagonals. 0 ignores the attribute.
   double normalWeight = 0.0;
-  double colourWeight = 0.5;
-  double uvWeight = 0.5;
+  double colourWeight = 0.1;
+  double uvWeight = 0.05;
   // Open boundaries are held by planes through their edges, this times the face weight.
   double boundaryWeight = 4.0;
   // A collapse may turn no triangle's normal by more than this angle's cosine allows.
