@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "indexed_min_heap.hpp"
 #include "quadric.hpp"
 
 namespace polder::mesh {
@@ -22,11 +23,10 @@ enum class VertexKind : std::uint8_t {
   Locked,    // non-manifold or isolated: never removed
 };
 
-struct HeapEntry {
+// One collapse v -> vertex and its cost.
+struct Option {
   float cost;
   std::uint32_t vertex;
-  std::uint32_t version;
-  bool operator>(const HeapEntry& o) const { return cost > o.cost; }
 };
 
 // A neighbour of the vertex being examined and how many of its live triangles share the edge.
@@ -49,12 +49,9 @@ class CollapseBuilder {
     steps.removed.reserve(m_vertexCount);
     steps.removedBegin.reserve(m_vertexCount + 1);
     steps.error.reserve(m_vertexCount);
-    while (!m_heap.empty() && m_liveTriangles > m_options.stopAtTriangles) {
-      std::pop_heap(m_heap.begin(), m_heap.end(), std::greater<>());
-      const HeapEntry entry = m_heap.back();
-      m_heap.pop_back();
-      const std::uint32_t v = entry.vertex;
-      if (entry.version != m_version[v] || !m_alive[v] || m_target[v] == kNone) continue;
+    while (!m_queue.empty() && m_liveTriangles > m_options.stopAtTriangles) {
+      const std::uint32_t v = m_queue.top();
+      m_queue.remove(v);
       const std::uint32_t u = m_target[v];
       // Candidates are costed without the validity checks; check the cheapest now, and if it
       // fails, queue v's cheapest valid option instead.
@@ -111,9 +108,7 @@ class CollapseBuilder {
     m_colourBorder.assign(m_vertexCount, 0);
     for (std::uint32_t v = 0; v < m_vertexCount; ++v) classify(v);
     m_target.assign(m_vertexCount, kNone);
-    m_cost.assign(m_vertexCount, 0.0f);
-    m_version.assign(m_vertexCount, 0);
-    m_heap.reserve(2 * m_vertexCount);
+    m_queue = IndexedMinHeap(m_vertexCount);
   }
 
   void setUpAttributes() {
@@ -280,11 +275,9 @@ class CollapseBuilder {
   // Queues v's cheapest collapse; with `validate`, its cheapest valid one (link condition,
   // no flips), else only the cost order is known and the check waits for the pop.
   void updateCandidate(std::uint32_t v, bool validate) {
-    if (!m_alive[v] || m_kind[v] == VertexKind::Locked) {
-      ++m_version[v];
-      m_target[v] = kNone;
-      return;
-    }
+    m_target[v] = kNone;
+    m_queue.remove(v);
+    if (!m_alive[v] || m_kind[v] == VertexKind::Locked) return;
     gatherNeighbours(v, m_neighbours);
     const std::uint32_t region = m_partition.regionOf(v);
     m_options_scratch.clear();
@@ -292,27 +285,21 @@ class CollapseBuilder {
       if (m_partition.regionOf(n.vertex) != region) continue;
       if (m_kind[v] == VertexKind::Border && n.sharedTriangles != 1) continue;
       if (m_colourBorder[v] && (!m_colourBorder[n.vertex] || coloursDiffer(v, n.vertex))) continue;
-      m_options_scratch.push_back({collapseCost(v, n.vertex), n.vertex, 0});
+      m_options_scratch.push_back({collapseCost(v, n.vertex), n.vertex});
     }
-    auto cheaper = [](const HeapEntry& x, const HeapEntry& y) { return x.cost < y.cost; };
+    auto cheaper = [](const Option& x, const Option& y) { return x.cost < y.cost; };
     if (validate) std::sort(m_options_scratch.begin(), m_options_scratch.end(), cheaper);
     else if (!m_options_scratch.empty())
       std::iter_swap(m_options_scratch.begin(),
                      std::min_element(m_options_scratch.begin(), m_options_scratch.end(), cheaper));
-    for (const HeapEntry& option : m_options_scratch) {
+    for (const Option& option : m_options_scratch) {
       if (validate && !collapseIsValid(v, option.vertex)) continue;
-      // The queued entry already says this: keep it rather than grow the heap.
-      if (!validate && option.vertex == m_target[v] && option.cost == m_cost[v]) return;
-      ++m_version[v];
       m_target[v] = option.vertex;
-      m_cost[v] = option.cost;
-      m_heap.push_back({option.cost, v, m_version[v]});
-      std::push_heap(m_heap.begin(), m_heap.end(), std::greater<>());
+      m_queue.set(v, option.cost);
       return;
     }
-    ++m_version[v];
-    m_target[v] = kNone;
   }
+
 
 
   // Link condition and normal check for moving v onto its neighbour u.
@@ -379,13 +366,13 @@ class CollapseBuilder {
     }
     std::vector<std::uint32_t>().swap(m_fan[v]);
     m_alive[v] = 0;
+    m_queue.remove(v);
     m_quadric[u] += m_quadric[v];
     if (m_dims > 0) {
       m_moment0[u] += m_moment0[v];
       m_moment2[u] += m_moment2[v];
       for (int k = 0; k < m_dims; ++k) m_moment1[std::size_t(u) * m_dims + k] += m_moment1[std::size_t(v) * m_dims + k];
     }
-    ++m_version[v];
     // u's quadric changed. v's old neighbours gained the option u (kept if cheaper than
     // theirs) and those aiming at v lost theirs. Everyone else keeps the costs of their
     // options (a target's position never moves); validity is checked at the pop.
@@ -400,12 +387,9 @@ class CollapseBuilder {
       if (m_partition.regionOf(x) != m_partition.regionOf(u)) continue;
       if (m_colourBorder[x] && (!m_colourBorder[u] || coloursDiffer(x, u))) continue;
       const float cost = collapseCost(x, u);
-      if (m_target[x] != kNone && !(cost < m_cost[x])) continue;
-      ++m_version[x];
+      if (m_target[x] != kNone && m_queue.contains(x) && !(cost < m_queue.key(x))) continue;
       m_target[x] = u;
-      m_cost[x] = cost;
-      m_heap.push_back({cost, x, m_version[x]});
-      std::push_heap(m_heap.begin(), m_heap.end(), std::greater<>());
+      m_queue.set(x, cost);
     }
   }
 
@@ -428,14 +412,12 @@ class CollapseBuilder {
   std::vector<VertexKind> m_kind;
   std::vector<std::uint8_t> m_colourBorder;
   std::vector<std::uint32_t> m_target;
-  std::vector<float> m_cost;  // of the queued collapse
-  std::vector<std::uint32_t> m_version;
   std::vector<std::uint32_t> m_markA, m_markB;
   std::vector<std::uint32_t> m_slot;  // a marked neighbour's place in the gathered list
   std::uint32_t m_stamp = 0;
-  std::vector<HeapEntry> m_heap;
+  IndexedMinHeap m_queue{0};  // vertices by the cost of their queued collapse
   std::vector<Neighbour> m_neighbours, m_ring;
-  std::vector<HeapEntry> m_options_scratch;
+  std::vector<Option> m_options_scratch;
 };
 
 }  // namespace

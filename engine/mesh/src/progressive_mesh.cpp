@@ -11,6 +11,17 @@ namespace {
 
 constexpr std::uint32_t kNever = std::numeric_limits<std::uint32_t>::max();
 
+// The items 0..count-1 ordered by bucket (stable within a bucket); bucketOf(i) < buckets.
+template <class BucketOf>
+std::vector<std::uint32_t> countingSort(std::uint32_t count, std::uint32_t buckets, const BucketOf& bucketOf) {
+  std::vector<std::uint32_t> start(std::size_t(buckets) + 1, 0);
+  for (std::uint32_t i = 0; i < count; ++i) ++start[bucketOf(i) + 1];
+  for (std::uint32_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
+  std::vector<std::uint32_t> order(count);
+  for (std::uint32_t i = 0; i < count; ++i) order[start[bucketOf(i)]++] = i;
+  return order;
+}
+
 template <class T>
 std::size_t bytesOf(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
@@ -199,14 +210,17 @@ class ProgressiveMeshAssembler {
     out.m_stepCount = m_steps.size();
 
     // Vertex order: by region, then the vertices removed last first.
-    std::vector<std::uint32_t> order(vertexCount);
-    std::iota(order.begin(), order.end(), 0u);
+    // (Counting sorts: the keys are step numbers, so this stays linear.)
     auto removalKey = [&](std::uint32_t v) { return m_removalStep[v] == kNever ? kNever : m_localStep[m_removalStep[v]]; };
-    std::stable_sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
-      const std::uint32_t rx = m_partition.regionOf(x), ry = m_partition.regionOf(y);
-      if (rx != ry) return rx < ry;
-      return removalKey(x) > removalKey(y);
-    });
+    std::vector<std::uint32_t> regionBucketBase(regionCount + 1, 0);
+    for (std::uint32_t r = 0; r < regionCount; ++r) regionBucketBase[r + 1] = regionBucketBase[r] + m_regionStepCount[r] + 1;
+    // Within a region: never removed first (bucket 0), then the last removed.
+    auto vertexBucket = [&](std::uint32_t v) {
+      const std::uint32_t r = m_partition.regionOf(v), key = removalKey(v);
+      return regionBucketBase[r] + (key == kNever ? 0 : m_regionStepCount[r] - key);
+    };
+    const std::vector<std::uint32_t> order =
+        countingSort(static_cast<std::uint32_t>(vertexCount), regionBucketBase[regionCount], vertexBucket);
     std::vector<std::uint32_t> newIndex(vertexCount);
     for (std::uint32_t i = 0; i < vertexCount; ++i) newIndex[order[i]] = i;
     out.m_originalVertex = order;
@@ -235,9 +249,17 @@ class ProgressiveMeshAssembler {
       const std::size_t stepCount = m_regionStepCount[r];
       seq.m_stepCount = stepCount;
       std::vector<std::uint32_t>& tris = trianglesOf[r];
-      std::stable_sort(tris.begin(), tris.end(), [&](std::uint32_t x, std::uint32_t y) {
-        return vanishKey(x) > vanishKey(y);
-      });
+      {  // Survivors first, then those that vanish last.
+        const auto bucket = [&](std::uint32_t i) {
+          const std::uint32_t key = vanishKey(tris[i]);
+          return key == kNever ? 0u : std::uint32_t(stepCount) - key;
+        };
+        const std::vector<std::uint32_t> sorted =
+            countingSort(static_cast<std::uint32_t>(tris.size()), std::uint32_t(stepCount) + 1, bucket);
+        std::vector<std::uint32_t> reordered(tris.size());
+        for (std::size_t i = 0; i < sorted.size(); ++i) reordered[i] = tris[sorted[i]];
+        tris = std::move(reordered);
+      }
       seq.m_fullIndices.resize(3 * tris.size());
       for (std::uint32_t i = 0; i < tris.size(); ++i) {
         const std::uint32_t t = tris[i];

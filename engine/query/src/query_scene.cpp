@@ -281,7 +281,20 @@ struct QueryScene::Impl {
         std::optional<PreparedRay> ray = i < rays.size() ? prepare(rays[i]) : std::nullopt;
         valid[lane] = ray ? -1 : 0;
         if (i < rays.size()) hits[i].reset();
-        if (!ray) continue;
+        if (!ray) {
+          // Inactive lanes still hold a well-formed ray: Embree's packet code may look at them.
+          packet.ray.org_x[lane] = packet.ray.org_y[lane] = packet.ray.org_z[lane] = 0.0f;
+          packet.ray.dir_x[lane] = packet.ray.dir_y[lane] = 0.0f;
+          packet.ray.dir_z[lane] = 1.0f;
+          packet.ray.tnear[lane] = 0.0f;
+          packet.ray.tfar[lane] = 0.0f;
+          packet.ray.time[lane] = 0.0f;
+          packet.ray.mask[lane] = 0u;
+          packet.ray.id[lane] = unsigned(lane);
+          packet.ray.flags[lane] = 0;
+          packet.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+          continue;
+        }
         ++active;
         prepared[lane] = *ray;
         const FloatRay local = toSceneFrame(*ray);
