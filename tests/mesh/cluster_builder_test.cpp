@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "mesh_test_shapes.hpp"
+#include "mesh_test_topology.hpp"
 #include "polder/mesh/cluster_builder.hpp"
 #include "polder/mesh/progressive_mesh.hpp"
 #include "polder/mesh/progressive_mesh_instance.hpp"
@@ -16,7 +17,9 @@
 namespace polder::mesh {
 namespace {
 
-using Edge = std::pair<std::uint32_t, std::uint32_t>;
+using test::drawnIndices;
+using test::edgeUse;
+using test::openEdgeCount;
 
 SimplificationSteps clusterSteps(const TriangleMesh& mesh, const RegionPartition& partition,
                                  const ClusterOptions& options = {}) {
@@ -31,31 +34,6 @@ ProgressiveMesh buildProgressive(const TriangleMesh& mesh, const RegionPartition
   auto progressive = ProgressiveMesh::assemble(mesh, partition, steps);
   EXPECT_TRUE(progressive.ok()) << (progressive.ok() ? "" : progressive.error().message);
   return std::move(progressive).value();
-}
-
-std::vector<std::uint32_t> drawnIndices(const ProgressiveMeshInstance& instance) {
-  std::vector<std::uint32_t> out;
-  for (std::uint32_t r = 0; r < instance.mesh().regionCount(); ++r) {
-    auto idx = instance.indices(r);
-    out.insert(out.end(), idx.begin(), idx.end());
-  }
-  return out;
-}
-
-std::map<Edge, int> edgeUse(const std::vector<std::uint32_t>& indices) {
-  std::map<Edge, int> use;
-  for (std::size_t t = 0; t + 2 < indices.size(); t += 3)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = indices[t + k], b = indices[t + (k + 1) % 3];
-      ++use[{std::min(a, b), std::max(a, b)}];
-    }
-  return use;
-}
-
-std::size_t openEdgeCount(const std::vector<std::uint32_t>& indices) {
-  std::size_t open = 0;
-  for (const auto& [edge, count] : edgeUse(indices)) open += count == 1;
-  return open;
 }
 
 glm::dvec3 triangleNormal(const std::vector<glm::vec3>& p, std::span<const std::uint32_t> idx, std::size_t slot) {
@@ -157,59 +135,10 @@ TEST(ClusterBuilder, GathersSeveralVerticesPerStepDownToAFewTriangles) {
   EXPECT_GT(seq.errorAt(0), 0.0f);
 }
 
-TEST(ClusterBuilder, EveryLevelIsClosedManifoldAndUsesActiveOriginalVertices) {
-  const TriangleMesh sphere = test::bumpySphere(24, 32);
-  const ProgressiveMesh pm = buildProgressive(sphere, singleRegion());
-  ProgressiveMeshInstance instance(pm);
-  const RegionSequence& seq = pm.region(0);
-  for (std::uint32_t level = seq.levelCount() + 1; level-- > 0;) {
-    instance.setLevel(0, level);
-    instance.resolveBorders();
-    const auto indices = drawnIndices(instance);
-    ASSERT_EQ(indices.size(), 3 * std::size_t(seq.trianglesAt(level)));
-    // Every edge keeps exactly two triangles: no holes, and no step pinches the surface.
-    for (const auto& [edge, count] : edgeUse(indices)) ASSERT_EQ(count, 2) << "level " << level;
-    for (std::uint32_t v : indices) {
-      ASSERT_LT(v, seq.verticesAt(level)) << "level " << level << " uses a vertex outside its active prefix";
-      ASSERT_EQ(pm.vertices().positions[v], sphere.positions[pm.originalVertex()[v]]);
-    }
-  }
-}
-
-TEST(ClusterBuilder, NoStepFlipsATriangle) {
-  for (const TriangleMesh& mesh : {test::bumpySphere(16, 20), test::bumpyGrid(24, 0.3f)}) {
-    const ProgressiveMesh pm = buildProgressive(mesh, singleRegion());
-    const RegionSequence& seq = pm.region(0);
-    ProgressiveMeshInstance instance(pm);
-    const auto& p = pm.vertices().positions;
-    for (std::uint32_t level = seq.levelCount(); level > 0; --level) {
-      const std::vector<std::uint32_t> before(instance.indices(0).begin(), instance.indices(0).end());
-      instance.setLevel(0, level - 1);
-      const auto after = instance.indices(0);
-      for (std::size_t t = 0; t < after.size(); t += 3) {
-        if (std::equal(after.begin() + t, after.begin() + t + 3, before.begin() + t)) continue;
-        const glm::dvec3 n0 = triangleNormal(p, before, t), n1 = triangleNormal(p, after, t);
-        ASSERT_GT(glm::dot(n0, n1), 0.0) << "step to level " << level - 1 << " flips triangle " << t / 3;
-      }
-    }
-  }
-}
-
-TEST(ClusterBuilder, OpenBoundaryStaysOnTheOutlineAndItsCornersStay) {
+TEST(ClusterBuilder, GridCornersStayToTheBase) {
   const TriangleMesh grid = test::bumpyGrid(20);
   const ProgressiveMesh pm = buildProgressive(grid, singleRegion());
-  ProgressiveMeshInstance instance(pm);
   const auto& p = pm.vertices().positions;
-  auto onBoundary = [](const glm::vec3& q) { return q.x == 0.0f || q.y == 0.0f || q.x == 1.0f || q.y == 1.0f; };
-  for (std::uint32_t level : {0u, 5u, 40u, pm.region(0).levelCount() / 2}) {
-    instance.setLevel(0, level);
-    for (const auto& [edge, count] : edgeUse(drawnIndices(instance))) {
-      ASSERT_LE(count, 2);
-      if (count == 1) {
-        EXPECT_TRUE(onBoundary(p[edge.first]) && onBoundary(p[edge.second])) << "level " << level;
-      }
-    }
-  }
   // Corners never join: the four grid corners are in the base mesh.
   int cornersKept = 0;
   for (std::uint32_t v = 0; v < pm.region(0).verticesAt(0); ++v) {
@@ -218,47 +147,6 @@ TEST(ClusterBuilder, OpenBoundaryStaysOnTheOutlineAndItsCornersStay) {
   }
   EXPECT_EQ(cornersKept, 4);
   EXPECT_GE(pm.region(0).trianglesAt(0), 2u);
-}
-
-TEST(ClusterBuilder, SameLevelSameTrianglesWhateverThePath) {
-  const TriangleMesh sphere = test::bumpySphere(14, 18);
-  const ProgressiveMesh pm = buildProgressive(sphere, singleRegion());
-  const std::uint32_t levels = pm.region(0).levelCount();
-  std::mt19937 random(7);
-  ProgressiveMeshInstance walker(pm);
-  for (int move = 0; move < 60; ++move) {
-    const std::uint32_t level = std::uniform_int_distribution<std::uint32_t>(0, levels)(random);
-    walker.setLevel(0, level);
-    walker.resolveBorders();
-    ProgressiveMeshInstance fresh(pm);
-    fresh.setLevel(0, level);
-    fresh.resolveBorders();
-    ASSERT_EQ(drawnIndices(walker), drawnIndices(fresh)) << "move " << move << " to level " << level;
-  }
-}
-
-TEST(ClusterBuilder, RegionsAtIndependentLevelsAddNoOpenEdges) {
-  const TriangleMesh sphere = test::bumpySphere(24, 30);
-  const RegionPartition partition = automaticPartition(sphere.positions, 12);
-  ASSERT_GE(partition.regionCount, 12u);
-  const SimplificationSteps steps = clusterSteps(sphere, partition);
-  for (std::size_t s = 0; s < steps.size(); ++s)
-    for (std::uint32_t v : steps.removedBy(s))
-      ASSERT_EQ(partition.regionOf(v), partition.regionOf(steps.representative[s])) << "step " << s;
-  auto assembled = ProgressiveMesh::assemble(sphere, partition, steps);
-  ASSERT_TRUE(assembled.ok()) << assembled.error().message;
-  const ProgressiveMesh& pm = *assembled;
-  std::mt19937 random(11);
-  ProgressiveMeshInstance instance(pm);
-  for (int trial = 0; trial < 80; ++trial) {
-    for (std::uint32_t r = 0; r < pm.regionCount(); ++r)
-      instance.setLevel(r, std::uniform_int_distribution<std::uint32_t>(0, pm.region(r).levelCount())(random));
-    instance.resolveBorders();
-    const auto indices = drawnIndices(instance);
-    ASSERT_EQ(openEdgeCount(indices), 0u) << "trial " << trial;
-    for (std::size_t t = 0; t < indices.size(); t += 3)
-      ASSERT_TRUE(indices[t] != indices[t + 1] && indices[t + 1] != indices[t + 2] && indices[t] != indices[t + 2]);
-  }
 }
 
 // Triangles of `idx` whose normal is neither plane's of the folded sheet, and the largest

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "mesh_test_shapes.hpp"
+#include "mesh_test_topology.hpp"
 #include "polder/mesh/collapse_builder.hpp"
 #include "polder/mesh/progressive_mesh.hpp"
 #include "polder/mesh/progressive_mesh_instance.hpp"
@@ -15,7 +16,9 @@
 namespace polder::mesh {
 namespace {
 
-using Edge = std::pair<std::uint32_t, std::uint32_t>;
+using test::drawnIndices;
+using test::edgeUse;
+using test::openEdgeCount;
 
 ProgressiveMesh buildProgressive(const TriangleMesh& mesh, const RegionPartition& partition,
                                  const CollapseOptions& options = {}) {
@@ -24,33 +27,6 @@ ProgressiveMesh buildProgressive(const TriangleMesh& mesh, const RegionPartition
   auto progressive = ProgressiveMesh::assemble(mesh, partition, *steps);
   EXPECT_TRUE(progressive.ok()) << (progressive.ok() ? "" : progressive.error().message);
   return std::move(progressive).value();
-}
-
-// All triangles an instance draws, over every region.
-std::vector<std::uint32_t> drawnIndices(const ProgressiveMeshInstance& instance) {
-  std::vector<std::uint32_t> out;
-  for (std::uint32_t r = 0; r < instance.mesh().regionCount(); ++r) {
-    auto idx = instance.indices(r);
-    out.insert(out.end(), idx.begin(), idx.end());
-  }
-  return out;
-}
-
-// Undirected edge -> number of triangles using it.
-std::map<Edge, int> edgeUse(const std::vector<std::uint32_t>& indices) {
-  std::map<Edge, int> use;
-  for (std::size_t t = 0; t + 2 < indices.size(); t += 3)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = indices[t + k], b = indices[t + (k + 1) % 3];
-      ++use[{std::min(a, b), std::max(a, b)}];
-    }
-  return use;
-}
-
-std::size_t openEdgeCount(const std::vector<std::uint32_t>& indices) {
-  std::size_t open = 0;
-  for (const auto& [edge, count] : edgeUse(indices)) open += count == 1;
-  return open;
 }
 
 TEST(CollapseBuilder, ReachesAFewTrianglesOnAClosedSurface) {
@@ -69,84 +45,6 @@ TEST(CollapseBuilder, ReachesAFewTrianglesOnAClosedSurface) {
   }
   EXPECT_EQ(seq.errorAt(seq.levelCount()), 0.0f);
   EXPECT_GT(seq.errorAt(0), 0.0f);
-}
-
-TEST(CollapseBuilder, EveryLevelIsClosedAndUsesOriginalVertices) {
-  const TriangleMesh sphere = test::bumpySphere(16, 20);
-  const ProgressiveMesh pm = buildProgressive(sphere, singleRegion());
-  ProgressiveMeshInstance instance(pm);
-  const RegionSequence& seq = pm.region(0);
-  for (std::uint32_t level = seq.levelCount() + 1; level-- > 0;) {
-    instance.setLevel(0, level);
-    instance.resolveBorders();
-    const auto indices = drawnIndices(instance);
-    ASSERT_EQ(indices.size(), 3 * std::size_t(seq.trianglesAt(level)));
-    ASSERT_EQ(openEdgeCount(indices), 0u) << "level " << level;
-    for (std::uint32_t v : indices) {
-      ASSERT_LT(v, seq.verticesAt(level)) << "level " << level << " uses a vertex outside its active prefix";
-      // The reordered table holds the original vertex it says it holds.
-      ASSERT_EQ(pm.vertices().positions[v], sphere.positions[pm.originalVertex()[v]]);
-    }
-  }
-}
-
-TEST(CollapseBuilder, NoStepFlipsATriangle) {
-  for (const TriangleMesh& mesh : {test::bumpySphere(16, 20), test::bumpyGrid(24, 0.3f)}) {
-    const ProgressiveMesh pm = buildProgressive(mesh, singleRegion());
-    const RegionSequence& seq = pm.region(0);
-    ProgressiveMeshInstance instance(pm);
-    const auto& p = pm.vertices().positions;
-    auto normalOf = [&](std::span<const std::uint32_t> idx, std::size_t slot) {
-      const glm::dvec3 a(p[idx[slot]]), b(p[idx[slot + 1]]), c(p[idx[slot + 2]]);
-      return glm::cross(b - a, c - a);
-    };
-    for (std::uint32_t level = seq.levelCount(); level > 0; --level) {
-      const std::vector<std::uint32_t> before(instance.indices(0).begin(), instance.indices(0).end());
-      instance.setLevel(0, level - 1);
-      const auto after = instance.indices(0);
-      for (std::size_t t = 0; t < after.size(); t += 3) {
-        if (std::equal(after.begin() + t, after.begin() + t + 3, before.begin() + t)) continue;
-        const glm::dvec3 n0 = normalOf(before, t), n1 = normalOf(after, t);
-        ASSERT_GT(glm::dot(n0, n1), 0.0) << "step to level " << level - 1 << " flips triangle " << t / 3;
-      }
-    }
-  }
-}
-
-TEST(CollapseBuilder, OpenBoundaryStaysOnTheOriginalBoundary) {
-  const TriangleMesh grid = test::bumpyGrid(20);
-  const ProgressiveMesh pm = buildProgressive(grid, singleRegion());
-  ProgressiveMeshInstance instance(pm);
-  const auto& p = pm.vertices().positions;
-  auto onBoundary = [](const glm::vec3& q) { return q.x == 0.0f || q.y == 0.0f || q.x == 1.0f || q.y == 1.0f; };
-  for (std::uint32_t level : {0u, 5u, 40u, pm.region(0).levelCount() / 2}) {
-    instance.setLevel(0, level);
-    for (const auto& [edge, count] : edgeUse(drawnIndices(instance))) {
-      ASSERT_LE(count, 2);
-      if (count == 1) {
-        EXPECT_TRUE(onBoundary(p[edge.first]) && onBoundary(p[edge.second])) << "level " << level;
-      }
-    }
-  }
-  // The surface never vanishes whole: the base keeps at least one triangle.
-  EXPECT_GE(pm.region(0).trianglesAt(0), 1u);
-}
-
-TEST(ProgressiveMeshInstance, SameLevelSameTrianglesWhateverThePath) {
-  const TriangleMesh sphere = test::bumpySphere(14, 18);
-  const ProgressiveMesh pm = buildProgressive(sphere, singleRegion());
-  const std::uint32_t levels = pm.region(0).levelCount();
-  std::mt19937 random(7);
-  ProgressiveMeshInstance walker(pm);
-  for (int move = 0; move < 60; ++move) {
-    const std::uint32_t level = std::uniform_int_distribution<std::uint32_t>(0, levels)(random);
-    walker.setLevel(0, level);
-    walker.resolveBorders();
-    ProgressiveMeshInstance fresh(pm);
-    fresh.setLevel(0, level);
-    fresh.resolveBorders();
-    ASSERT_EQ(drawnIndices(walker), drawnIndices(fresh)) << "move " << move << " to level " << level;
-  }
 }
 
 TEST(ProgressiveMeshInstance, CostIsProportionalToTheChange) {
@@ -171,30 +69,6 @@ TEST(ProgressiveMeshInstance, CostIsProportionalToTheChange) {
   instance.setLevel(0, instance.level(0));
   instance.resolveBorders();
   EXPECT_EQ(instance.writes(), still);
-}
-
-TEST(Regions, IndependentLevelsAddNoOpenEdges) {
-  const TriangleMesh sphere = test::bumpySphere(24, 30);
-  const RegionPartition partition = automaticPartition(sphere.positions, 12);
-  ASSERT_GE(partition.regionCount, 12u);
-  const ProgressiveMesh pm = buildProgressive(sphere, partition);
-  ASSERT_EQ(pm.regionCount(), partition.regionCount);
-  std::size_t borderCorners = 0;
-  for (std::uint32_t r = 0; r < pm.regionCount(); ++r) borderCorners += pm.region(r).foreignCorners().size();
-  ASSERT_GT(borderCorners, 0u) << "regions must share border triangles";
-  std::mt19937 random(11);
-  ProgressiveMeshInstance instance(pm);
-  for (int trial = 0; trial < 80; ++trial) {
-    for (std::uint32_t r = 0; r < pm.regionCount(); ++r) {
-      const std::uint32_t levels = pm.region(r).levelCount();
-      instance.setLevel(r, std::uniform_int_distribution<std::uint32_t>(0, levels)(random));
-    }
-    instance.resolveBorders();
-    const auto indices = drawnIndices(instance);
-    ASSERT_EQ(openEdgeCount(indices), 0u) << "trial " << trial;
-    for (std::size_t t = 0; t < indices.size(); t += 3)
-      ASSERT_TRUE(indices[t] != indices[t + 1] && indices[t + 1] != indices[t + 2] && indices[t] != indices[t + 2]);
-  }
 }
 
 TEST(Regions, StepsNeverJoinTwoRegionsAndBordersFollowTheNeighbour) {

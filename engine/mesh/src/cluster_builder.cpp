@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "builder_setup.hpp"
 #include "quadric.hpp"
 
 namespace polder::mesh {
@@ -198,40 +199,24 @@ class ClusterBuilder {
 
   void setUp() {
     m_vertexCount = static_cast<std::uint32_t>(m_mesh.vertexCount());
-    const double diagonal = boundingBoxDiagonal(m_mesh.positions);
-    m_diagonal = diagonal > 0.0 ? diagonal : 1.0;
-    glm::dvec3 lo(m_mesh.positions.empty() ? glm::vec3(0.0f) : m_mesh.positions.front()), hi = lo;
-    for (const glm::vec3& p : m_mesh.positions) lo = glm::min(lo, glm::dvec3(p)), hi = glm::max(hi, glm::dvec3(p));
-    m_position.resize(m_vertexCount);
-    for (std::uint32_t v = 0; v < m_vertexCount; ++v)
-      m_position[v] = (glm::dvec3(m_mesh.positions[v]) - lo) / m_diagonal;
-    const glm::dvec3 extent = (hi - lo) / m_diagonal;
+    NormalizedPositions normalized = normalizePositions(m_mesh.positions);
+    m_diagonal = normalized.diagonal;
+    m_position = std::move(normalized.positions);
+    const glm::dvec3 extent = normalized.extent;
     // A cell of twice the largest extent covers the bounding box wherever it is centred.
     m_cellLimit = 2.0 * std::max(extent.x, std::max(extent.y, extent.z)) + 1e-9;
 
     // Live triangles (degenerate input ones are skipped) and fans.
-    const std::size_t inputTriangles = m_mesh.triangleCount();
-    m_corner.reserve(3 * inputTriangles);
-    std::vector<std::uint32_t> fanSize(m_vertexCount, 0);
-    for (std::size_t t = 0; t < inputTriangles; ++t) {
-      const std::uint32_t a = m_mesh.indices[3 * t], b = m_mesh.indices[3 * t + 1], c = m_mesh.indices[3 * t + 2];
-      if (a == b || b == c || a == c) continue;
-      m_corner.insert(m_corner.end(), {a, b, c});
-      ++fanSize[a], ++fanSize[b], ++fanSize[c];
-    }
+    collectTriangleFans(m_mesh, m_corner, m_fan);
     const auto triangleCount = static_cast<std::uint32_t>(m_corner.size() / 3);
     m_liveTriangles = triangleCount;
     m_triangleAlive.assign(triangleCount, 1);
-    m_fan.resize(m_vertexCount);
-    for (std::uint32_t v = 0; v < m_vertexCount; ++v) m_fan[v].reserve(fanSize[v]);
-    for (std::uint32_t t = 0; t < triangleCount; ++t)
-      for (int k = 0; k < 3; ++k) m_fan[m_corner[3 * t + k]].push_back(t);
 
     m_quadric.assign(m_vertexCount, Quadric{});
     std::vector<glm::dvec3> faceNormal(triangleCount, glm::dvec3(0.0));
     for (std::uint32_t t = 0; t < triangleCount; ++t) faceNormal[t] = addFaceQuadric(t);
     setUpColours();
-    const double meanEdge = classify(faceNormal, fanSize);
+    const double meanEdge = classify(faceNormal);
 
     m_alive.assign(m_vertexCount, 1);
     m_version.assign(m_vertexCount, 0);
@@ -287,7 +272,7 @@ class ClusterBuilder {
 
   // Classifies every vertex into the seed's categories from the edges around it, labels
   // feature lines, adds boundary planes; returns the mean edge length.
-  double classify(const std::vector<glm::dvec3>& faceNormal, const std::vector<std::uint32_t>& fanSize) {
+  double classify(const std::vector<glm::dvec3>& faceNormal) {
     std::vector<EdgeSide> sides;
     sides.reserve(m_corner.size());
     for (std::uint32_t t = 0; t < m_corner.size() / 3; ++t)
@@ -368,7 +353,7 @@ class ClusterBuilder {
     };
     m_class.assign(m_vertexCount, VertexClass::Complex);
     for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
-      const std::uint32_t triangles = fanSize[v];
+      const auto triangles = static_cast<std::uint32_t>(m_fan[v].size());  // all alive at set-up
       if (triangles == 0 || nonManifold[v]) continue;
       const bool closedDisk = boundaryCount[v] == 0 && neighbours[v] == triangles;
       const bool openDisk = boundaryCount[v] == 2 && neighbours[v] == triangles + 1;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "builder_setup.hpp"
 #include "indexed_min_heap.hpp"
 #include "quadric.hpp"
 
@@ -71,31 +72,15 @@ class CollapseBuilder {
  private:
   void setUp() {
     m_vertexCount = static_cast<std::uint32_t>(m_mesh.vertexCount());
-    const double diagonal = boundingBoxDiagonal(m_mesh.positions);
-    m_diagonal = diagonal > 0.0 ? diagonal : 1.0;
-    glm::dvec3 lo(m_mesh.positions.empty() ? glm::vec3(0.0f) : m_mesh.positions.front());
-    for (const glm::vec3& p : m_mesh.positions) lo = glm::min(lo, glm::dvec3(p));
-    m_position.resize(m_vertexCount);
-    for (std::uint32_t v = 0; v < m_vertexCount; ++v)
-      m_position[v] = (glm::dvec3(m_mesh.positions[v]) - lo) / m_diagonal;
+    NormalizedPositions normalized = normalizePositions(m_mesh.positions);
+    m_diagonal = normalized.diagonal;
+    m_position = std::move(normalized.positions);
 
     // Live triangles (degenerate input ones are skipped) and fans.
-    const std::size_t inputTriangles = m_mesh.triangleCount();
-    m_corner.reserve(3 * inputTriangles);
-    std::vector<std::uint32_t> fanSize(m_vertexCount, 0);
-    for (std::size_t t = 0; t < inputTriangles; ++t) {
-      const std::uint32_t a = m_mesh.indices[3 * t], b = m_mesh.indices[3 * t + 1], c = m_mesh.indices[3 * t + 2];
-      if (a == b || b == c || a == c) continue;
-      m_corner.insert(m_corner.end(), {a, b, c});
-      ++fanSize[a], ++fanSize[b], ++fanSize[c];
-    }
+    collectTriangleFans(m_mesh, m_corner, m_fan);
     const auto triangleCount = static_cast<std::uint32_t>(m_corner.size() / 3);
     m_liveTriangles = triangleCount;
     m_triangleAlive.assign(triangleCount, 1);
-    m_fan.resize(m_vertexCount);
-    for (std::uint32_t v = 0; v < m_vertexCount; ++v) m_fan[v].reserve(fanSize[v]);
-    for (std::uint32_t t = 0; t < triangleCount; ++t)
-      for (int k = 0; k < 3; ++k) m_fan[m_corner[3 * t + k]].push_back(t);
 
     setUpAttributes();
     m_quadric.assign(m_vertexCount, Quadric{});

@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include <polder/one_line.hpp>
+
 namespace polder::mesh_io::detail {
 
 inline bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
@@ -45,19 +47,7 @@ inline std::optional<std::int64_t> parseInteger(std::string_view token) {
   return value;
 }
 
-// Library messages may span lines; errors are one line.
-inline std::string oneLine(std::string_view text) {
-  std::string line;
-  for (char c : text) {
-    if (c == '\n' || c == '\r') {
-      if (!line.empty() && line.back() != ' ') line += "; ";
-    } else {
-      line += c;
-    }
-  }
-  while (!line.empty() && (line.back() == ' ' || line.back() == ';')) line.pop_back();
-  return line.empty() ? "no details given" : line;
-}
+using polder::oneLine;
 
 // Quotes a token from a file for an error message, cut short and with control bytes escaped.
 inline std::string quoted(std::string_view token) {

@@ -7,21 +7,11 @@
 #include <string>
 #include <string_view>
 
+#include <polder/one_line.hpp>
+
 namespace polder::terrain::io {
 
-// Library messages (OpenImageIO, libtiff) may span lines; errors are one line.
-inline std::string oneLine(std::string_view text) {
-  std::string line;
-  for (char c : text) {
-    if (c == '\n' || c == '\r') {
-      if (!line.empty() && line.back() != ' ') line += "; ";
-    } else {
-      line += c;
-    }
-  }
-  while (!line.empty() && (line.back() == ' ' || line.back() == ';')) line.pop_back();
-  return line.empty() ? "no details given" : line;
-}
+using polder::oneLine;
 
 // Shortest text that reads back as the same double.
 inline std::string formatExact(double value) {

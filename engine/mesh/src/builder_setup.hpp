@@ -1,0 +1,53 @@
+// What both builders start from: positions scaled to a unit bounding-box diagonal (so
+// weights and tolerances do not depend on the model's units), and the live triangles
+// with the triangles around each vertex.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "polder/mesh/triangle_mesh.hpp"
+
+namespace polder::mesh {
+
+struct NormalizedPositions {
+  std::vector<glm::dvec3> positions;  // (p - lo) / diagonal
+  glm::dvec3 extent{0.0};             // of the bounding box, in the same units
+  double diagonal = 1.0;              // the scale, in the mesh's units (1 for a point)
+};
+
+inline NormalizedPositions normalizePositions(const std::vector<glm::vec3>& positions) {
+  NormalizedPositions out;
+  const double diagonal = boundingBoxDiagonal(positions);
+  out.diagonal = diagonal > 0.0 ? diagonal : 1.0;
+  glm::dvec3 lo(positions.empty() ? glm::vec3(0.0f) : positions.front()), hi = lo;
+  for (const glm::vec3& p : positions) lo = glm::min(lo, glm::dvec3(p)), hi = glm::max(hi, glm::dvec3(p));
+  out.positions.resize(positions.size());
+  for (std::size_t v = 0; v < positions.size(); ++v) out.positions[v] = (glm::dvec3(positions[v]) - lo) / out.diagonal;
+  out.extent = (hi - lo) / out.diagonal;
+  return out;
+}
+
+// The input's triangles without degenerate ones, three corners each, and every vertex's
+// triangles (its fan).
+inline void collectTriangleFans(const TriangleMesh& mesh, std::vector<std::uint32_t>& corners,
+                                std::vector<std::vector<std::uint32_t>>& fans) {
+  const std::size_t inputTriangles = mesh.triangleCount();
+  corners.clear();
+  corners.reserve(3 * inputTriangles);
+  std::vector<std::uint32_t> fanSize(mesh.vertexCount(), 0);
+  for (std::size_t t = 0; t < inputTriangles; ++t) {
+    const std::uint32_t a = mesh.indices[3 * t], b = mesh.indices[3 * t + 1], c = mesh.indices[3 * t + 2];
+    if (a == b || b == c || a == c) continue;
+    corners.insert(corners.end(), {a, b, c});
+    ++fanSize[a], ++fanSize[b], ++fanSize[c];
+  }
+  fans.assign(mesh.vertexCount(), {});
+  for (std::size_t v = 0; v < fans.size(); ++v) fans[v].reserve(fanSize[v]);
+  for (std::uint32_t t = 0; t < corners.size() / 3; ++t)
+    for (int k = 0; k < 3; ++k) fans[corners[3 * t + k]].push_back(t);
+}
+
+}  // namespace polder::mesh

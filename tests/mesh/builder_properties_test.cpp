@@ -1,0 +1,161 @@
+// What every builder's sequence must give, checked for `collapse` and `cluster` alike:
+// closed levels over original, active vertices; no step flips a triangle; a level is the
+// same whatever path led to it; regions at independent levels add no open edges.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <functional>
+#include <random>
+#include <string>
+
+#include "mesh_test_shapes.hpp"
+#include "mesh_test_topology.hpp"
+#include "polder/mesh/cluster_builder.hpp"
+#include "polder/mesh/collapse_builder.hpp"
+#include "polder/mesh/progressive_mesh.hpp"
+#include "polder/mesh/progressive_mesh_instance.hpp"
+
+namespace polder::mesh {
+namespace {
+
+using test::drawnIndices;
+using test::edgeUse;
+using test::openEdgeCount;
+
+struct Builder {
+  std::string name;
+  std::function<Result<SimplificationSteps>(const TriangleMesh&, const RegionPartition&)> build;
+};
+
+class BuilderProperties : public ::testing::TestWithParam<Builder> {
+ protected:
+  ProgressiveMesh progressive(const TriangleMesh& mesh, const RegionPartition& partition) const {
+    auto steps = GetParam().build(mesh, partition);
+    EXPECT_TRUE(steps.ok()) << (steps.ok() ? "" : steps.error().message);
+    for (std::size_t s = 0; steps.ok() && s < steps->size(); ++s)
+      for (std::uint32_t v : steps->removedBy(s))
+        EXPECT_EQ(partition.regionOf(v), partition.regionOf(steps->representative[s])) << "step " << s;
+    auto assembled = ProgressiveMesh::assemble(mesh, partition, *steps);
+    EXPECT_TRUE(assembled.ok()) << (assembled.ok() ? "" : assembled.error().message);
+    return std::move(assembled).value();
+  }
+};
+
+glm::dvec3 triangleNormal(const std::vector<glm::vec3>& p, std::span<const std::uint32_t> idx, std::size_t slot) {
+  const glm::dvec3 a(p[idx[slot]]), b(p[idx[slot + 1]]), c(p[idx[slot + 2]]);
+  return glm::cross(b - a, c - a);
+}
+
+TEST_P(BuilderProperties, EveryLevelIsClosedAndUsesActiveOriginalVertices) {
+  const TriangleMesh sphere = test::bumpySphere(20, 26);
+  const ProgressiveMesh pm = progressive(sphere, singleRegion());
+  ProgressiveMeshInstance instance(pm);
+  const RegionSequence& seq = pm.region(0);
+  EXPECT_LE(seq.trianglesAt(0), 16u) << "a sphere's base mesh should be a handful of triangles";
+  for (std::uint32_t level = seq.levelCount() + 1; level-- > 0;) {
+    instance.setLevel(0, level);
+    instance.resolveBorders();
+    const auto indices = drawnIndices(instance);
+    ASSERT_EQ(indices.size(), 3 * std::size_t(seq.trianglesAt(level)));
+    // Every edge keeps exactly two triangles: no holes, and no step pinches the surface.
+    for (const auto& [edge, count] : edgeUse(indices)) ASSERT_EQ(count, 2) << "level " << level;
+    for (std::uint32_t v : indices) {
+      ASSERT_LT(v, seq.verticesAt(level)) << "level " << level << " uses a vertex outside its active prefix";
+      ASSERT_EQ(pm.vertices().positions[v], sphere.positions[pm.originalVertex()[v]]);
+    }
+    if (level < seq.levelCount()) {
+      ASSERT_LE(seq.trianglesAt(level), seq.trianglesAt(level + 1));
+      ASSERT_GE(seq.errorAt(level), seq.errorAt(level + 1));
+    }
+  }
+}
+
+TEST_P(BuilderProperties, NoStepFlipsATriangle) {
+  for (const TriangleMesh& mesh : {test::bumpySphere(16, 20), test::bumpyGrid(24, 0.3f)}) {
+    const ProgressiveMesh pm = progressive(mesh, singleRegion());
+    const RegionSequence& seq = pm.region(0);
+    ProgressiveMeshInstance instance(pm);
+    const auto& p = pm.vertices().positions;
+    for (std::uint32_t level = seq.levelCount(); level > 0; --level) {
+      const std::vector<std::uint32_t> before(instance.indices(0).begin(), instance.indices(0).end());
+      instance.setLevel(0, level - 1);
+      const auto after = instance.indices(0);
+      for (std::size_t t = 0; t < after.size(); t += 3) {
+        if (std::equal(after.begin() + t, after.begin() + t + 3, before.begin() + t)) continue;
+        ASSERT_GT(glm::dot(triangleNormal(p, before, t), triangleNormal(p, after, t)), 0.0)
+            << "step to level " << level - 1 << " flips triangle " << t / 3;
+      }
+    }
+  }
+}
+
+TEST_P(BuilderProperties, SameLevelSameTrianglesWhateverThePath) {
+  const TriangleMesh sphere = test::bumpySphere(14, 18);
+  const RegionPartition partition = automaticPartition(sphere.positions, 4);
+  const ProgressiveMesh pm = progressive(sphere, partition);
+  std::mt19937 random(7);
+  ProgressiveMeshInstance walker(pm);
+  for (int move = 0; move < 60; ++move) {
+    ProgressiveMeshInstance fresh(pm);
+    for (std::uint32_t r = 0; r < pm.regionCount(); ++r) {
+      const std::uint32_t level = std::uniform_int_distribution<std::uint32_t>(0, pm.region(r).levelCount())(random);
+      walker.setLevel(r, level);
+      fresh.setLevel(r, level);
+    }
+    walker.resolveBorders();
+    fresh.resolveBorders();
+    ASSERT_EQ(drawnIndices(walker), drawnIndices(fresh)) << "move " << move;
+  }
+}
+
+TEST_P(BuilderProperties, RegionsAtIndependentLevelsAddNoOpenEdges) {
+  const TriangleMesh sphere = test::bumpySphere(24, 30);
+  const RegionPartition partition = automaticPartition(sphere.positions, 12);
+  ASSERT_GE(partition.regionCount, 12u);
+  const ProgressiveMesh pm = progressive(sphere, partition);
+  ASSERT_EQ(pm.regionCount(), partition.regionCount);
+  std::size_t borderCorners = 0;
+  for (std::uint32_t r = 0; r < pm.regionCount(); ++r) borderCorners += pm.region(r).foreignCorners().size();
+  ASSERT_GT(borderCorners, 0u) << "regions must share border triangles";
+  std::mt19937 random(11);
+  ProgressiveMeshInstance instance(pm);
+  for (int trial = 0; trial < 80; ++trial) {
+    for (std::uint32_t r = 0; r < pm.regionCount(); ++r)
+      instance.setLevel(r, std::uniform_int_distribution<std::uint32_t>(0, pm.region(r).levelCount())(random));
+    instance.resolveBorders();
+    const auto indices = drawnIndices(instance);
+    ASSERT_EQ(openEdgeCount(indices), 0u) << "trial " << trial;
+    for (std::size_t t = 0; t < indices.size(); t += 3)
+      ASSERT_TRUE(indices[t] != indices[t + 1] && indices[t + 1] != indices[t + 2] && indices[t] != indices[t + 2]);
+  }
+}
+
+TEST_P(BuilderProperties, OpenBoundaryStaysOnTheOriginalOutline) {
+  const TriangleMesh grid = test::bumpyGrid(20);
+  const ProgressiveMesh pm = progressive(grid, singleRegion());
+  ProgressiveMeshInstance instance(pm);
+  const auto& p = pm.vertices().positions;
+  auto onBoundary = [](const glm::vec3& q) { return q.x == 0.0f || q.y == 0.0f || q.x == 1.0f || q.y == 1.0f; };
+  for (std::uint32_t level : {0u, 5u, 40u, pm.region(0).levelCount() / 2}) {
+    instance.setLevel(0, level);
+    for (const auto& [edge, count] : edgeUse(drawnIndices(instance))) {
+      ASSERT_LE(count, 2);
+      if (count == 1) {
+        EXPECT_TRUE(onBoundary(p[edge.first]) && onBoundary(p[edge.second])) << "level " << level;
+      }
+    }
+  }
+  // The surface never vanishes whole: the base keeps at least one triangle.
+  EXPECT_GE(pm.region(0).trianglesAt(0), 1u);
+}
+
+void PrintTo(const Builder& builder, std::ostream* out) { *out << builder.name; }
+
+INSTANTIATE_TEST_SUITE_P(
+    Builders, BuilderProperties,
+    ::testing::Values(Builder{"collapse", [](const TriangleMesh& m, const RegionPartition& p) { return buildCollapseSteps(m, p); }},
+                      Builder{"cluster", [](const TriangleMesh& m, const RegionPartition& p) { return buildClusterSteps(m, p); }}),
+    [](const ::testing::TestParamInfo<Builder>& info) { return info.param.name; });
+
+}  // namespace
+}  // namespace polder::mesh

@@ -1,0 +1,44 @@
+// What the progressive-mesh tests look at: the triangles an instance draws and how many
+// triangles use each edge.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "polder/mesh/progressive_mesh_instance.hpp"
+
+namespace polder::test {
+
+using Edge = std::pair<std::uint32_t, std::uint32_t>;
+
+// All triangles an instance draws, over every region.
+inline std::vector<std::uint32_t> drawnIndices(const mesh::ProgressiveMeshInstance& instance) {
+  std::vector<std::uint32_t> out;
+  for (std::uint32_t r = 0; r < instance.mesh().regionCount(); ++r) {
+    auto idx = instance.indices(r);
+    out.insert(out.end(), idx.begin(), idx.end());
+  }
+  return out;
+}
+
+// Undirected edge -> number of triangles using it.
+inline std::map<Edge, int> edgeUse(const std::vector<std::uint32_t>& indices) {
+  std::map<Edge, int> use;
+  for (std::size_t t = 0; t + 2 < indices.size(); t += 3)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = indices[t + k], b = indices[t + (k + 1) % 3];
+      ++use[{std::min(a, b), std::max(a, b)}];
+    }
+  return use;
+}
+
+inline std::size_t openEdgeCount(const std::vector<std::uint32_t>& indices) {
+  std::size_t open = 0;
+  for (const auto& [edge, count] : edgeUse(indices)) open += count == 1;
+  return open;
+}
+
+}  // namespace polder::test
