@@ -12,6 +12,9 @@
 #include <nlohmann/json.hpp>
 
 #include <polder/terrain/image_writer.hpp>
+#if POLDER_HAVE_GLFW
+#include <polder/platform/glfw_window.hpp>
+#endif
 
 #include "bench_statistics.hpp"
 #include "cli_support.hpp"
@@ -27,6 +30,7 @@ struct SceneArguments {
   std::optional<int> frames;
   std::string out;
   int every = 1;
+  bool window = false;
 };
 
 void drawScene(render::Renderer& renderer, scene::Scene& scene, const Camera& camera, const TerrainStyle& style) {
@@ -108,10 +112,55 @@ void printRun(const LoadedScene& loaded, const SceneRun& run, int frames) {
               total.p99, percentiles(run.terrainMs).median, percentiles(run.objectsMs).median);
 }
 
+#if POLDER_HAVE_GLFW
+// The scene in a window, in real time: the camera follows the scene's path (or stays put),
+// Escape quits; with --frames the window closes after that many frames.
+int runSceneWindow(LoadedScene& loaded, std::optional<int> frames) {
+  platform::GlfwWindowOptions options;
+  options.title = "Polder scene";
+  options.width = loaded.lens.widthPx;
+  options.height = loaded.lens.heightPx;
+  auto window = platform::GlfwWindow::create(options);
+  if (!window) return reportError(window.error());
+  auto renderer = render::Renderer::create(&platform::GlfwWindow::getProcAddress);
+  if (!renderer) return reportError(renderer.error());
+  const auto start = std::chrono::steady_clock::now();
+  for (int frame = 0; !(*window)->shouldClose() && (!frames || frame < *frames); ++frame) {
+    (*window)->pollEvents();
+    if ((*window)->input().held(platform::Key::Escape)) break;
+    const double timeS = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    Camera camera = sceneCamera(loaded, int(timeS * 60.0));
+    const glm::ivec2 size = (*window)->framebufferSize();
+    if (size.x <= 0 || size.y <= 0) continue;  // minimised
+    camera.widthPx = size.x;
+    camera.heightPx = size.y;
+    const scene::SceneStats& stats = loaded.scene->update(camera, timeS);
+    drawScene(**renderer, *loaded.scene, camera, loaded.style);
+    if (Status done = (*renderer)->endFrame(); !done) return reportError(done.error());
+    (*window)->swapBuffers();
+    char title[160];
+    std::snprintf(title, sizeof title, "Polder scene - %llu triangles (%llu in %zu objects)",
+                  static_cast<unsigned long long>(stats.triangles()), static_cast<unsigned long long>(stats.objectTriangles),
+                  stats.visibleObjects);
+    (*window)->setTitle(title);
+  }
+  return 0;
+}
+#endif
+
 int runSceneCommand(const SceneArguments& arguments) {
+  if (arguments.frames && *arguments.frames < 1)
+    return reportError(makeError(ErrorKind::InvalidArgument, "--frames must be at least 1"));
   if (arguments.every < 1) return reportError(makeError(ErrorKind::InvalidArgument, "--every must be at least 1"));
   auto loaded = loadSceneFile(arguments.file);
   if (!loaded) return reportError(loaded.error());
+  if (arguments.window) {
+#if POLDER_HAVE_GLFW
+    return runSceneWindow(*loaded, arguments.frames);
+#else
+    return reportError(makeError(ErrorKind::Unsupported, "this build has no window platform; use --out"));
+#endif
+  }
   const int frames = arguments.frames.value_or(loaded->frames);
   if (frames < 1) return reportError(makeError(ErrorKind::InvalidArgument, "--frames must be at least 1"));
   auto run = runScene(*loaded, frames, arguments.out, arguments.every);
@@ -175,6 +224,7 @@ void addSceneCommand(CLI::App& app, int& exitCode) {
   command->add_option("--frames", arguments->frames, "Frames to run (default: the scene's)");
   command->add_option("--out", arguments->out, "Render frames headless (OSMesa) into this folder as PNG");
   command->add_option("--every", arguments->every, "Render every Nth frame")->capture_default_str();
+  command->add_flag("--window", arguments->window, "Show the scene in a window in real time (Escape quits)");
   command->callback([arguments, &exitCode] { exitCode = runSceneCommand(*arguments); });
 }
 

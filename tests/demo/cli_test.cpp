@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -323,6 +324,10 @@ TEST_F(PolderProgram, SceneRendersFramesAndBenchReportsObjectsAndTheAllocator) {
   EXPECT_TRUE(json["allocator_ms"].contains("p99"));
   EXPECT_EQ(json["triangles"]["frames_within_budget"], 20);
   EXPECT_LE(json["triangles"]["max"].get<double>(), 12000.0);
+
+  if (!std::getenv("DISPLAY")) GTEST_SKIP() << "no X display for the window run (ctest runs under xvfb-run)";
+  run = runPolder("scene " + sceneFile + " --window --frames 5");
+  EXPECT_EQ(run.exitCode, 0) << run.output;
 }
 
 TEST(PolderScene, BadSceneFilesNameTheFileAndTheKey) {

@@ -2,13 +2,32 @@
 // budget; instances of one model take their own levels; transforms nest and animate.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
+#include <new>
 
 #include "mesh_test_shapes.hpp"
 #include "polder/mesh/collapse_builder.hpp"
 #include "polder/scene/scene.hpp"
 #include "polder/terrain/generator.hpp"
+
+// Counts heap allocations, to prove a steady frame allocates nothing.
+namespace {
+std::atomic<std::size_t> g_allocations{0};
+}
+// The replacements pair malloc with free; GCC cannot see that new and delete are both ours.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size ? size : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#pragma GCC diagnostic pop
 
 namespace polder::scene {
 namespace {
@@ -209,6 +228,44 @@ TEST(Scene, ErrorModeHoldsEveryRegionWithinItsPixelTolerance) {
     // Farther objects need fewer triangles.
     EXPECT_LE(triangles, previous);
     previous = triangles;
+  }
+}
+
+TEST(Scene, SteadyFramesDoNotAllocateEvenWithObjectsMoving) {
+  Scene scene(generatedTerrain(129, 8));
+  const auto shape = test::bumpySphere(20, 24);
+  const int sphere = scene.addModel(model(shape, mesh::automaticPartition(shape.positions, 4), "sphere"));
+  for (int i = 0; i < 10; ++i) {
+    SceneNode node;
+    node.model = sphere;
+    node.pose.translation = {0.0, 0.0, 800.0};
+    node.pose.scale = glm::dvec3(40.0);
+    node.animation.kind = Animation::Kind::Spin;  // moving in place: same levels, new vertices every frame
+    node.animation.degreesPerSecond = 45.0;
+    node.animation.axis = {0.3, 0.2, 1.0};
+    node.pose.translation.x = 1500.0 + 120.0 * i;
+    node.pose.translation.y = 1800.0;
+    ASSERT_TRUE(scene.addNode(node).ok());
+  }
+  const Camera camera = lookingAt({1900.0, 200.0, 1600.0}, 0.0, -30.0);
+  for (const LodMode mode : {LodMode::TriangleBudget, LodMode::PixelError}) {
+    SceneOptions options;
+    options.mode = mode;
+    options.budgetTriangles = 30000;
+    ASSERT_TRUE(scene.setOptions(options).ok());
+    // One whole turn (8 s) to warm up: storage grows to the largest frame of the cycle,
+    // then the next turn's frames must fit in it.
+    for (int warm = 0; warm < 80; ++warm) {
+      (void)scene.update(camera, 0.1 * warm);
+      (void)scene.terrain()->frameMeshes();
+    }
+    const std::size_t before = g_allocations.load();
+    for (int frame = 0; frame < 20; ++frame) {
+      const SceneStats& stats = scene.update(camera, 8.0 + 0.1 * frame);
+      ASSERT_GT(stats.visibleObjects, 0u);
+      (void)scene.terrain()->frameMeshes();
+    }
+    EXPECT_EQ(g_allocations.load() - before, 0u) << (mode == LodMode::TriangleBudget ? "budget mode" : "error mode");
   }
 }
 
