@@ -44,7 +44,13 @@ void drawScene(render::Renderer& renderer, scene::Scene& scene, const Camera& ca
 }
 
 // Per-frame figures of a scene run.
+struct RegionShare {
+  double distanceM = 0.0;
+  std::uint32_t triangles = 0;
+};
+
 struct SceneRun {
+  std::vector<RegionShare> lastFrameRegions;  // mesh regions in view at the last frame
   std::vector<double> triangles, objectTriangles, regions, allocatorMs, totalMs, visibleObjects, objectsMs, terrainMs;
   int framesWithinBudget = 0;
   std::size_t objects = 0;
@@ -90,6 +96,19 @@ Result<SceneRun> runScene(LoadedScene& loaded, int frames, const std::string& ou
       if (Status s = terrain::writeRgbaPng(std::filesystem::path(outDir) / name, image); !s) return s.error();
     }
     progress.update(float(index + 1) / float(frames));
+    if (index + 1 == frames) {
+      for (std::size_t n = 0; n < loaded.scene->nodeCount(); ++n) {
+        const scene::SceneNode& node = loaded.scene->node(int(n));
+        if (node.model < 0) continue;
+        const scene::MeshModel& model = loaded.scene->model(node.model);
+        for (std::uint32_t r = 0; r < model.mesh().regionCount(); ++r) {
+          if (!loaded.scene->regionVisible(int(n), r)) continue;
+          const Aabb& box = model.regionBox(r);
+          const glm::dvec3 centre(loaded.scene->worldMatrix(int(n)) * glm::dvec4(0.5 * (box.minCorner + box.maxCorner), 1.0));
+          run.lastFrameRegions.push_back({glm::length(centre - camera.position), loaded.scene->instance(int(n)).triangleCount(r)});
+        }
+      }
+    }
   }
   return run;
 }
@@ -106,6 +125,14 @@ void printRun(const LoadedScene& loaded, const SceneRun& run, int frames) {
     std::printf("%-30s %d of %d\n", "frames within 0.9P..P", run.framesWithinBudget, frames);
   std::printf("%-30s %zu (%.1f visible), %.1f regions in view, %.0f triangles\n", "objects", run.objects,
               mean(run.visibleObjects), mean(run.regions), mean(run.objectTriangles));
+  if (run.lastFrameRegions.size() > 1) {
+    auto byDistance = run.lastFrameRegions;
+    std::sort(byDistance.begin(), byDistance.end(), [](const RegionShare& a, const RegionShare& b) { return a.distanceM < b.distanceM; });
+    std::uint32_t most = 0;
+    for (const RegionShare& r : byDistance) most = std::max(most, r.triangles);
+    std::printf("%-30s nearest %u, farthest %u, most %u triangles (last frame, %zu regions)\n", "mesh regions by distance",
+                byDistance.front().triangles, byDistance.back().triangles, most, byDistance.size());
+  }
   std::printf("%-30s %.3f median, %.3f p99 (%zu regions at most)\n", "allocator ms", allocator.median, allocator.p99,
               run.allocatedRegionsMax);
   std::printf("%-30s %.3f median, %.3f p99 (terrain %.3f, objects %.3f median)\n", "cpu ms per frame", total.median,

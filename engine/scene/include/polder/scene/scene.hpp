@@ -105,6 +105,9 @@ class Scene {
   const TerrainEngine* terrain() const { return m_terrain.get(); }
 
   std::size_t nodeCount() const { return m_nodes.size(); }
+  const MeshModel& model(int index) const { return *m_models[index]; }
+  // Whether the node's region was in view at the last update.
+  bool regionVisible(int index, std::uint32_t region) const { return m_nodes[index].regionVisible[region] != 0; }
   const SceneNode& node(int index) const { return m_nodes[index].node; }
   const glm::dmat4& worldMatrix(int index) const { return m_nodes[index].world; }
   // The node's instance of its model (asserts the node shows one).
