@@ -314,8 +314,10 @@ class CollapseBuilder {
       }
       const glm::dvec3 before = glm::cross(p[1] - p[0], p[2] - p[0]);
       const glm::dvec3 after = glm::cross(q[1] - q[0], q[2] - q[0]);
-      const double lengths = glm::length(before) * glm::length(after);
-      if (!(glm::dot(before, after) > m_options.minNormalCosine * lengths)) return false;
+      // dot > c |before| |after|, squared to spare the roots (c >= 0 is the usual case).
+      const double dot = glm::dot(before, after), c = m_options.minNormalCosine;
+      const double bound = c * c * glm::dot(before, before) * glm::dot(after, after);
+      if (c >= 0.0 ? !(dot > 0.0 && dot * dot > bound) : !(dot > 0.0 || dot * dot < bound)) return false;
     }
     if (edgeTriangles == 0) return false;
     // Common neighbours of v and u must be exactly the apexes of the edge's triangles.
@@ -336,10 +338,17 @@ class CollapseBuilder {
   }
 
   void collapse(std::uint32_t v, std::uint32_t u) {
-    gatherNeighbours(v, m_ring);
+    // v's neighbours (its ring) are gathered on the way through its fan.
+    m_ring.clear();
+    ++m_stamp;
     for (std::uint32_t t : m_fan[v]) {
       if (!m_triangleAlive[t]) continue;
       std::uint32_t* c = &m_corner[3 * t];
+      for (int k = 0; k < 3; ++k)
+        if (c[k] != v && m_markA[c[k]] != m_stamp) {
+          m_markA[c[k]] = m_stamp;
+          m_ring.push_back({c[k], 0});
+        }
       if (c[0] == u || c[1] == u || c[2] == u) {
         m_triangleAlive[t] = 0;
         --m_liveTriangles;
