@@ -26,6 +26,11 @@ double mean(const std::vector<double>& values) {
   return sum / double(values.size());
 }
 
+nlohmann::json percentileJson(const std::vector<double>& values) {
+  const Percentiles p = percentiles(values);
+  return {{"median", p.median}, {"p99", p.p99}};
+}
+
 double peakRssMb() {
   rusage usage{};
   ::getrusage(RUSAGE_SELF, &usage);

@@ -3,6 +3,8 @@
 
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace polder::cli {
 
 struct Percentiles {
@@ -14,6 +16,9 @@ struct Percentiles {
 Percentiles percentiles(std::vector<double> values);
 
 double mean(const std::vector<double>& values);
+
+// {"median": ..., "p99": ...} for a report.
+nlohmann::json percentileJson(const std::vector<double>& values);
 
 // The process's peak resident set size in MiB.
 double peakRssMb();

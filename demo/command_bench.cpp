@@ -123,8 +123,7 @@ PassResult runPass(TerrainEngine& engine, const CameraPath& path, const Camera& 
       if (headless) {
         const auto start = std::chrono::steady_clock::now();
         headless->renderer->beginFrame(camera, style);
-        for (const auto& mesh : meshes.blocks) (void)headless->renderer->drawTransient(drawItemOf(mesh));
-        for (const auto& mesh : meshes.dikes) (void)headless->renderer->drawTransient(drawItemOf(mesh));
+        drawTerrainMeshes(*headless->renderer, meshes);
         (void)headless->renderer->endFrame();
         headless->renderer->finish();
         result.renderMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
@@ -149,11 +148,6 @@ PassResult runPass(TerrainEngine& engine, const CameraPath& path, const Camera& 
   for (double e : errorMaxima) result.errorMax = std::max(result.errorMax, e);
   for (double e : errorP99s) result.errorP99 = std::max(result.errorP99, e);
   return result;
-}
-
-nlohmann::json percentileJson(const std::vector<double>& values) {
-  const Percentiles p = percentiles(values);
-  return {{"median", p.median}, {"p99", p.p99}};
 }
 
 double sum(const std::vector<double>& values) {
@@ -210,8 +204,7 @@ int runBench(BenchArguments arguments) {
     if (!crop) return reportError(makeError(ErrorKind::InvalidData, arguments.dem.path + ": " + crop.error().message));
     *field = std::move(*crop);
   }
-  float low = field->heights.front(), high = low;
-  for (float h : field->heights) low = std::min(low, h), high = std::max(high, h);
+  const auto [low, high] = field->heightRange();
 
   auto truth = query::QueryScene::create(*field);
   if (!truth) return reportError(truth.error());

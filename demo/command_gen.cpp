@@ -33,8 +33,7 @@ int runGen(const GenArguments& arguments) {
   if (!field) return reportError(field.error());
   const Status written = png ? terrain::writeHeightPng16(out, *field) : terrain::writeHeightTiffFloat(out, *field);
   if (!written) return reportError(written.error());
-  float low = field->heights.front(), high = low;
-  for (float h : field->heights) low = std::min(low, h), high = std::max(high, h);
+  const auto [low, high] = field->heightRange();
   std::printf("wrote %s: %d x %d samples, %.1f m spacing, heights %.1f .. %.1f m\n", arguments.out.c_str(),
               field->width, field->height, field->spacingX, low, high);
   return 0;

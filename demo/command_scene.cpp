@@ -35,11 +35,7 @@ struct SceneArguments {
 
 void drawScene(render::Renderer& renderer, scene::Scene& scene, const Camera& camera, const TerrainStyle& style) {
   renderer.beginFrame(camera, style);
-  if (TerrainEngine* terrain = scene.terrain()) {
-    const TerrainFrameMeshes meshes = terrain->frameMeshes();
-    for (const MeshData& mesh : meshes.blocks) (void)renderer.drawTransient(drawItemOf(mesh));
-    for (const MeshData& mesh : meshes.dikes) (void)renderer.drawTransient(drawItemOf(mesh));
-  }
+  if (TerrainEngine* terrain = scene.terrain()) drawTerrainMeshes(renderer, terrain->frameMeshes());
   for (const DrawItem& item : scene.objectDrawItems()) (void)renderer.drawTransient(item);
 }
 
@@ -227,11 +223,11 @@ int benchScene(const std::string& sceneFile, std::optional<int> frames, const st
         {"visible_mean", mean(run->visibleObjects)},
         {"regions", mean(run->regions)},
         {"triangles_mean", mean(run->objectTriangles)}}},
-      {"allocator_ms", {{"median", percentiles(run->allocatorMs).median}, {"p99", percentiles(run->allocatorMs).p99}}},
+      {"allocator_ms", percentileJson(run->allocatorMs)},
       {"cpu_ms",
-       {{"total", {{"median", percentiles(run->totalMs).median}, {"p99", percentiles(run->totalMs).p99}}},
-        {"terrain", {{"median", percentiles(run->terrainMs).median}, {"p99", percentiles(run->terrainMs).p99}}},
-        {"objects", {{"median", percentiles(run->objectsMs).median}, {"p99", percentiles(run->objectsMs).p99}}}}},
+       {{"total", percentileJson(run->totalMs)},
+        {"terrain", percentileJson(run->terrainMs)},
+        {"objects", percentileJson(run->objectsMs)}}},
       {"memory", {{"peak_rss_mb", peakRssMb()}}},
   };
   if (!jsonPath.empty()) {

@@ -13,6 +13,7 @@
 #include <polder/terrain/heightfield_crop.hpp>
 
 #include "cli_support.hpp"
+#include "terrain_drawing.hpp"
 
 namespace polder::cli {
 namespace {
@@ -388,17 +389,16 @@ Result<LoadedScene> loadSceneFile(const std::filesystem::path& file) {
       }
     }
     // Clip planes and shading from whatever the scene holds.
-    double low = 0.0, high = 1.0, extent = 1000.0;
-    if (loaded.terrain) {
-      low = high = loaded.terrain->heights.front();
-      for (float h : loaded.terrain->heights) low = std::min(low, double(h)), high = std::max(high, double(h));
-      extent = std::hypot(loaded.terrain->extentX(), loaded.terrain->extentY());
-    }
+    double extent = loaded.terrain ? std::hypot(loaded.terrain->extentX(), loaded.terrain->extentY()) : 1000.0;
     extent = std::max(extent, 4.0 * glm::length(loaded.lens.position));
     loaded.lens.nearM = std::max(0.05, extent * 1e-5);
     loaded.lens.farM = extent * 4.0;
-    loaded.style.minHeightM = float(low);
-    loaded.style.maxHeightM = float(std::max(high, low + 1.0));
+    if (loaded.terrain) {
+      loaded.style = makeTerrainStyle(*loaded.terrain);
+    } else {  // objects alone: the ramp's top colour, their tints show as they are
+      loaded.style.minHeightM = 0.0f;
+      loaded.style.maxHeightM = 1.0f;
+    }
     loaded.style.fogDensity = fogDensityForDistance(float(0.6 * extent));
     return loaded;
   } catch (const json::exception& e) {

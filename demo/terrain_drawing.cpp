@@ -7,12 +7,25 @@
 
 namespace polder::cli {
 
-TerrainStyle makeTerrainStyle(const terrain::Dem& dem) {
+namespace {
+
+TerrainStyle styleFor(double lowM, double highM, double diagonalM) {
   TerrainStyle style;
-  style.minHeightM = float(dem.info.minM);
-  style.maxHeightM = float(std::max(dem.info.maxM, dem.info.minM + 1.0));
-  style.fogDensity = fogDensityForDistance(float(0.6 * std::hypot(dem.field.extentX(), dem.field.extentY())));
+  style.minHeightM = float(lowM);
+  style.maxHeightM = float(std::max(highM, lowM + 1.0));
+  style.fogDensity = fogDensityForDistance(float(0.6 * diagonalM));
   return style;
+}
+
+}  // namespace
+
+TerrainStyle makeTerrainStyle(const terrain::Dem& dem) {
+  return styleFor(dem.info.minM, dem.info.maxM, std::hypot(dem.field.extentX(), dem.field.extentY()));
+}
+
+TerrainStyle makeTerrainStyle(const terrain::Heightfield& field) {
+  const auto [low, high] = field.heightRange();
+  return styleFor(low, high, std::hypot(field.extentX(), field.extentY()));
 }
 
 Result<TerrainMeshes> TerrainMeshes::upload(render::Renderer& renderer, const terrain::Heightfield& field) {
@@ -45,7 +58,13 @@ Result<DebugView> parseDebugView(const std::string& text) {
   return makeError(ErrorKind::InvalidArgument, "--debug must be lod, dikes or wire, not '" + text + "'");
 }
 
+void drawTerrainMeshes(render::Renderer& renderer, const TerrainFrameMeshes& meshes) {
+  for (const MeshData& mesh : meshes.blocks) (void)renderer.drawTransient(drawItemOf(mesh));
+  for (const MeshData& mesh : meshes.dikes) (void)renderer.drawTransient(drawItemOf(mesh));
+}
+
 void drawLodFrame(render::Renderer& renderer, const TerrainFrame& frame, const TerrainFrameMeshes& meshes, DebugView debug) {
+  if (debug == DebugView::None || debug == DebugView::Wire) return drawTerrainMeshes(renderer, meshes);
   // Quadtree levels: level 0 keeps the terrain's colours, coarser levels shift towards
   // blue, violet, orange...; dikes show in red under --debug dikes.
   static constexpr glm::vec3 kLevelTints[] = {{1.0f, 1.0f, 1.0f}, {0.55f, 0.75f, 1.0f}, {0.85f, 0.55f, 1.0f},

@@ -17,6 +17,7 @@ namespace polder::cli {
 // The elevation ramp spans the DEM's height range; fog half-hides terrain at about 60% of
 // the DEM's diagonal.
 TerrainStyle makeTerrainStyle(const terrain::Dem& dem);
+TerrainStyle makeTerrainStyle(const terrain::Heightfield& field);
 
 // The full-resolution triangulation of a heightfield, uploaded once in chunks.
 class TerrainMeshes {
@@ -36,6 +37,9 @@ void makeOpaque(RgbaImage& image);
 // Debug colouring of LOD frames (`--debug`).
 enum class DebugView { None, Lod, Dikes, Wire };
 Result<DebugView> parseDebugView(const std::string& text);
+
+// Draws a LOD frame's blocks and dikes in the terrain's own colours.
+void drawTerrainMeshes(render::Renderer& renderer, const TerrainFrameMeshes& meshes);
 
 // Draws a LOD frame: its blocks and its dikes, coloured per `debug`.
 void drawLodFrame(render::Renderer& renderer, const TerrainFrame& frame, const TerrainFrameMeshes& meshes, DebugView debug);

@@ -52,14 +52,17 @@ std::vector<glm::vec3> computeVertexNormals(const std::vector<glm::vec3>& positi
   return normals;
 }
 
-double boundingBoxDiagonal(const std::vector<glm::vec3>& positions) {
-  if (positions.empty()) return 0.0;
-  glm::dvec3 lo(positions.front()), hi(positions.front());
+PositionBounds boundsOf(const std::vector<glm::vec3>& positions) {
+  PositionBounds bounds;
+  if (positions.empty()) return bounds;
+  bounds.lo = bounds.hi = glm::dvec3(positions.front());
   for (const glm::vec3& p : positions) {
-    lo = glm::min(lo, glm::dvec3(p));
-    hi = glm::max(hi, glm::dvec3(p));
+    bounds.lo = glm::min(bounds.lo, glm::dvec3(p));
+    bounds.hi = glm::max(bounds.hi, glm::dvec3(p));
   }
-  return glm::length(hi - lo);
+  return bounds;
 }
+
+double boundingBoxDiagonal(const std::vector<glm::vec3>& positions) { return boundsOf(positions).diagonal(); }
 
 }  // namespace polder::mesh

@@ -79,9 +79,9 @@ Result<Dem> finishDem(Heightfield field, DemInfo info, const DemOptions& options
   info.voids = fillVoids(field);
   if (info.voids == std::int64_t(field.sampleCount()))
     return makeError(ErrorKind::InvalidData, "all " + std::to_string(info.voids) + " samples are no-data (voids)");
-  const auto [low, high] = std::minmax_element(field.heights.begin(), field.heights.end());
-  info.minM = *low;
-  info.maxM = *high;
+  const auto [low, high] = field.heightRange();
+  info.minM = low;
+  info.maxM = high;
   return Dem{std::move(field), std::move(info)};
 }
 

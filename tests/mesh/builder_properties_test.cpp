@@ -21,6 +21,7 @@ namespace {
 using test::drawnIndices;
 using test::edgeUse;
 using test::openEdgeCount;
+using test::triangleNormal;
 
 struct Builder {
   std::string name;
@@ -40,11 +41,6 @@ class BuilderProperties : public ::testing::TestWithParam<Builder> {
     return std::move(assembled).value();
   }
 };
-
-glm::dvec3 triangleNormal(const std::vector<glm::vec3>& p, std::span<const std::uint32_t> idx, std::size_t slot) {
-  const glm::dvec3 a(p[idx[slot]]), b(p[idx[slot + 1]]), c(p[idx[slot + 2]]);
-  return glm::cross(b - a, c - a);
-}
 
 TEST_P(BuilderProperties, EveryLevelIsClosedAndUsesActiveOriginalVertices) {
   const TriangleMesh sphere = test::bumpySphere(20, 26);

@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <map>
-#include <random>
+#include <span>
 #include <utility>
 
 #include "mesh_test_shapes.hpp"
@@ -13,13 +15,13 @@
 #include "polder/mesh/cluster_builder.hpp"
 #include "polder/mesh/progressive_mesh.hpp"
 #include "polder/mesh/progressive_mesh_instance.hpp"
+#include "polder/query/closest_point_triangle.hpp"
 
 namespace polder::mesh {
 namespace {
 
-using test::drawnIndices;
-using test::edgeUse;
 using test::openEdgeCount;
+using test::triangleNormal;
 
 SimplificationSteps clusterSteps(const TriangleMesh& mesh, const RegionPartition& partition,
                                  const ClusterOptions& options = {}) {
@@ -36,37 +38,12 @@ ProgressiveMesh buildProgressive(const TriangleMesh& mesh, const RegionPartition
   return std::move(progressive).value();
 }
 
-glm::dvec3 triangleNormal(const std::vector<glm::vec3>& p, std::span<const std::uint32_t> idx, std::size_t slot) {
-  const glm::dvec3 a(p[idx[slot]]), b(p[idx[slot + 1]]), c(p[idx[slot + 2]]);
-  return glm::cross(b - a, c - a);
-}
-
-// Closest point of triangle abc to q (Ericson, Real-Time Collision Detection, 5.1.5).
-glm::dvec3 closestOnTriangle(const glm::dvec3& q, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-  const glm::dvec3 ab = b - a, ac = c - a, aq = q - a;
-  const double d1 = glm::dot(ab, aq), d2 = glm::dot(ac, aq);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const glm::dvec3 bq = q - b;
-  const double d3 = glm::dot(ab, bq), d4 = glm::dot(ac, bq);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
-  const glm::dvec3 cq = q - c;
-  const double d5 = glm::dot(ab, cq), d6 = glm::dot(ac, cq);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double denominator = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denominator) + ac * (vc * denominator);
-}
-
 double distanceToTriangles(const glm::dvec3& q, const std::vector<glm::vec3>& p, std::span<const std::uint32_t> idx) {
   double best = std::numeric_limits<double>::infinity();
-  for (std::size_t t = 0; t < idx.size(); t += 3)
-    best = std::min(best, glm::length(q - closestOnTriangle(q, glm::dvec3(p[idx[t]]), glm::dvec3(p[idx[t + 1]]),
-                                                            glm::dvec3(p[idx[t + 2]]))));
+  for (std::size_t t = 0; t < idx.size(); t += 3) {
+    const glm::dvec3 a(p[idx[t]]), b(p[idx[t + 1]]), c(p[idx[t + 2]]);
+    best = std::min(best, glm::length(q - query::closestPointOnTriangle(q, a, b, c).point));
+  }
   return best;
 }
 

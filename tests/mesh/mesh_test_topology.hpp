@@ -1,12 +1,15 @@
-// What the progressive-mesh tests look at: the triangles an instance draws and how many
-// triangles use each edge.
+// What the progressive-mesh tests look at: the triangles an instance draws, how many
+// triangles use each edge, and which way a drawn triangle faces.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
 #include <map>
+#include <span>
 #include <utility>
 #include <vector>
+
+#include <glm/glm.hpp>
 
 #include "polder/mesh/progressive_mesh_instance.hpp"
 
@@ -39,6 +42,13 @@ inline std::size_t openEdgeCount(const std::vector<std::uint32_t>& indices) {
   std::size_t open = 0;
   for (const auto& [edge, count] : edgeUse(indices)) open += count == 1;
   return open;
+}
+
+// The normal of the triangle at indices[slot..slot+2], twice its area long.
+inline glm::dvec3 triangleNormal(const std::vector<glm::vec3>& positions, std::span<const std::uint32_t> indices,
+                                 std::size_t slot) {
+  const glm::dvec3 a(positions[indices[slot]]), b(positions[indices[slot + 1]]), c(positions[indices[slot + 2]]);
+  return glm::cross(b - a, c - a);
 }
 
 }  // namespace polder::test

@@ -20,11 +20,7 @@ const PlyEncoding kAllEncodings[] = {PlyEncoding::Ascii, PlyEncoding::BinaryLitt
 
 std::string encodingName(PlyEncoding encoding) { return test::plyFormatName(encoding); }
 
-mesh::TriangleMesh readOk(const std::filesystem::path& file, const MeshReadOptions& options = {}) {
-  Result<mesh::TriangleMesh> mesh = readMesh(file, options);
-  EXPECT_TRUE(mesh.ok()) << mesh.error().message;
-  return mesh.ok() ? std::move(mesh).value() : mesh::TriangleMesh{};
-}
+using test::readMeshOk;
 
 // A unit square (a quad) and a triangle over its first three corners, reversed, plus an
 // unreferenced fifth vertex: uchar colours and texture coordinates named u/v or s/t.
@@ -71,7 +67,7 @@ TEST(ReadPly, UcharColoursAndUvInEveryEncoding) {
     SCOPED_TRACE(encodingName(encoding));
     const auto file = dir.file("square_" + encodingName(encoding) + ".ply");
     test::writeFile(file, test::plyFile(squareWithUcharColours("u", "v"), encoding));
-    expectSquare(readOk(file));
+    expectSquare(readMeshOk(file));
   }
 }
 
@@ -82,7 +78,7 @@ TEST(ReadPly, TextureCoordinateNames) {
       SCOPED_TRACE(encodingName(encoding) + " " + u);
       const auto file = dir.file(std::string("names_") + u + "_" + encodingName(encoding) + ".ply");
       test::writeFile(file, test::plyFile(squareWithUcharColours(u, v), encoding));
-      expectSquare(readOk(file));
+      expectSquare(readMeshOk(file));
     }
   }
 }
@@ -102,7 +98,7 @@ TEST(ReadPly, FloatColoursWithAlphaAndNormals) {
     SCOPED_TRACE(encodingName(encoding));
     const auto file = dir.file("float_colours_" + encodingName(encoding) + ".ply");
     test::writeFile(file, test::plyFile(content, encoding));
-    const mesh::TriangleMesh mesh = readOk(file);
+    const mesh::TriangleMesh mesh = readMeshOk(file);
     ASSERT_EQ(mesh.vertexCount(), 4u);
     EXPECT_EQ(mesh.indices, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}));
     EXPECT_EQ(mesh.colours[0], glm::vec4(0.25f, 0.5f, 0.75f, 0.125f));
@@ -129,7 +125,7 @@ TEST(ReadPly, OtherTypesAndQuads) {
     SCOPED_TRACE(encodingName(encoding));
     const auto file = dir.file("types_" + encodingName(encoding) + ".ply");
     test::writeFile(file, test::plyFile(content, encoding));
-    const mesh::TriangleMesh mesh = readOk(file);
+    const mesh::TriangleMesh mesh = readMeshOk(file);
     ASSERT_EQ(mesh.vertexCount(), 6u);
     EXPECT_EQ(mesh.triangleCount(), 4u);
     EXPECT_EQ(mesh.positions[5], glm::vec3(4.0f, 2.0f, 0.0f));
@@ -149,7 +145,7 @@ TEST(ReadObj, PositionsTextureCoordinatesAndNormals) {
                   "vn 0 0 1\nvn 0 0 2\n"
                   "f 1/1/1 2/2/1 3/3/1 4/4/1\n"
                   "f 2/2/2 5/5/2 3/3/2\n");
-  const mesh::TriangleMesh mesh = readOk(file);
+  const mesh::TriangleMesh mesh = readMeshOk(file);
   // Vertices come in order of first use; vertices 2 and 3 have two normals but weld into one
   // (the first wins).
   const std::vector<glm::vec3> positions = {{0, 0, 0}, {2, 0, 0}, {2, 1.5f, 0}, {0, 1.5f, 0}, {4, 0, 0.25f}};
@@ -162,7 +158,7 @@ TEST(ReadObj, PositionsTextureCoordinatesAndNormals) {
 
   MeshReadOptions noWeld;
   noWeld.weldPositions = false;
-  const mesh::TriangleMesh unwelded = readOk(file, noWeld);
+  const mesh::TriangleMesh unwelded = readMeshOk(file, noWeld);
   EXPECT_EQ(unwelded.vertexCount(), 7u);  // vertices 2 and 3 twice: different normals
   EXPECT_EQ(unwelded.triangleCount(), 3u);
 }
@@ -171,7 +167,7 @@ TEST(ReadObj, VertexColours) {
   ScratchDir dir;
   const auto file = dir.file("coloured.obj");
   test::writeFile(file, "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 0.25 0.5 0.75\nf 1 2 3\nf 1 3 4\n");
-  const mesh::TriangleMesh mesh = readOk(file);
+  const mesh::TriangleMesh mesh = readMeshOk(file);
   ASSERT_EQ(mesh.vertexCount(), 4u);
   EXPECT_EQ(mesh.indices, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}));
   const std::vector<glm::vec4> colours = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {0.25f, 0.5f, 0.75f, 1}};
@@ -189,12 +185,12 @@ TEST(ReadObj, WeldMergesDuplicatePositionsAndAveragesColours) {
                   "f 1 2 3\nf 2 4 3\nf 5 2 4\nf 3 2 6\n");
   MeshReadOptions noWeld;
   noWeld.weldPositions = false;
-  const mesh::TriangleMesh unwelded = readOk(file, noWeld);
+  const mesh::TriangleMesh unwelded = readMeshOk(file, noWeld);
   EXPECT_EQ(unwelded.vertexCount(), 5u);  // 6 is an exact duplicate of 3 (same colour too)
   EXPECT_EQ(unwelded.triangleCount(), 4u);
   EXPECT_EQ(unwelded.indices[9], unwelded.indices[11]);  // kept as read, though degenerate
 
-  const mesh::TriangleMesh welded = readOk(file);
+  const mesh::TriangleMesh welded = readMeshOk(file);
   ASSERT_EQ(welded.vertexCount(), 4u);
   EXPECT_EQ(welded.indices, (std::vector<std::uint32_t>{0, 1, 2, 1, 3, 2, 0, 1, 3}));
   EXPECT_EQ(welded.colours[0], glm::vec4(0.5f, 0.0f, 0.5f, 1.0f));  // red and blue averaged
@@ -206,7 +202,7 @@ TEST(ReadObj, KeepsNearbyAndSignedZeroPositionsApart) {
   ScratchDir dir;
   const auto file = dir.file("near.obj");
   test::writeFile(file, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0.0000001 0 0\nv 1 1e-7 0\nv -0 1 0\nf 1 2 3\nf 4 5 6\n");
-  const mesh::TriangleMesh mesh = readOk(file);
+  const mesh::TriangleMesh mesh = readMeshOk(file);
   EXPECT_EQ(mesh.vertexCount(), 6u);
   EXPECT_EQ(mesh.triangleCount(), 2u);
 }
@@ -217,7 +213,7 @@ TEST(ReadObj, DropsPointsAndLinesAndMergesObjects) {
   test::writeFile(file,
                   "mtllib missing.mtl\no first\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl nothing\nf 1 2 3\n"
                   "l 1 3\np 4\nf 1 2\no second\nv 5 5 5\nf 1 2 5\ng group\nf -2 -1 -4\n");
-  const mesh::TriangleMesh mesh = readOk(file);
+  const mesh::TriangleMesh mesh = readMeshOk(file);
   EXPECT_EQ(mesh.triangleCount(), 3u);
   EXPECT_EQ(mesh.vertexCount(), 5u);
   EXPECT_EQ(mesh.positions[mesh.indices[5]], glm::vec3(5.0f));
@@ -229,7 +225,7 @@ TEST(ReadObj, IndentedLinesCommentsAndContinuations) {
   ScratchDir dir;
   const auto file = dir.file("layout.obj");
   test::writeFile(file, "v 0 0 0\r\n  v 1 0 0\r\n\tv 1 1 \\\r\n 0\r\nv 0 1 0 # corner\r\nf 1 2 3 # first\r\n   f 1 3 4\r\n");
-  const mesh::TriangleMesh mesh = readOk(file);
+  const mesh::TriangleMesh mesh = readMeshOk(file);
   EXPECT_EQ(mesh.vertexCount(), 4u);
   EXPECT_EQ(mesh.triangleCount(), 2u);
   EXPECT_EQ(mesh.positions[2], glm::vec3(1.0f, 1.0f, 0.0f));
@@ -243,7 +239,7 @@ TEST(ReadObj, UnitNormalsKeptBitForBitAndZeroNormalsComputed) {
   std::snprintf(text, sizeof text, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn %.9g %.9g %.9g\nvn 0 0 0\nf 1//1 2//1 3//2\n", third,
                 third, third);
   test::writeFile(file, text);
-  const mesh::TriangleMesh mesh = readOk(file);
+  const mesh::TriangleMesh mesh = readMeshOk(file);
   EXPECT_EQ(mesh.normals[0], glm::vec3(third));
   EXPECT_EQ(mesh.normals[2], glm::vec3(0.0f, 0.0f, 1.0f));  // zero in the file: computed
 }
@@ -262,7 +258,7 @@ TEST(ReadMesh, BakesTextureBeforeWelding) {
   MeshReadOptions options;
   options.bakeTexture = dir.file("texture.ppm");
   options.weldPositions = false;
-  const mesh::TriangleMesh unwelded = readOk(file, options);
+  const mesh::TriangleMesh unwelded = readMeshOk(file, options);
   ASSERT_EQ(unwelded.vertexCount(), 6u);
   EXPECT_EQ(unwelded.colours[0], glm::vec4(0, 0, 1, 1));  // (0.25, 0.25): bottom left, blue
   EXPECT_EQ(unwelded.colours[1], glm::vec4(1, 1, 1, 1));  // bottom right, white
@@ -272,7 +268,7 @@ TEST(ReadMesh, BakesTextureBeforeWelding) {
   EXPECT_EQ(unwelded.colours[5], glm::vec4(0.5f, 0.5f, 0.5f, 1));  // centre: all four averaged
 
   options.weldPositions = true;
-  const mesh::TriangleMesh welded = readOk(file, options);
+  const mesh::TriangleMesh welded = readMeshOk(file, options);
   ASSERT_EQ(welded.vertexCount(), 5u);
   EXPECT_EQ(welded.colours[0], glm::vec4(0.0f, 0.5f, 0.5f, 1.0f));  // blue and green averaged
   EXPECT_EQ(welded.uvs[0], glm::vec2(0.25f, 0.25f));                 // first occurrence wins
@@ -309,7 +305,7 @@ TEST(ReadMesh, BakeErrorsNameBothFiles) {
   EXPECT_NE(broken.error().message.find("broken.png"), std::string::npos) << broken.error().message;
 
   options.bakeTexture = dir.file("texture.ppm");
-  const mesh::TriangleMesh baked = readOk(textured, options);
+  const mesh::TriangleMesh baked = readMeshOk(textured, options);
   ASSERT_TRUE(baked.hasColours());
   EXPECT_FLOAT_EQ(baked.colours[0].r, 10 / 255.0f);
   EXPECT_FLOAT_EQ(baked.colours[0].g, 20 / 255.0f);

@@ -5,20 +5,17 @@
 
 #include <polder/mesh_io/mesh_file.hpp>
 
+#include "mesh_test_files.hpp"
 #include "test_support.hpp"
 
 namespace polder::mesh_io {
 namespace {
 
-mesh::TriangleMesh readShared(const std::filesystem::path& file, const MeshReadOptions& options = {}) {
-  Result<mesh::TriangleMesh> mesh = readMesh(file, options);
-  EXPECT_TRUE(mesh.ok()) << mesh.error().message;
-  return mesh.ok() ? std::move(mesh).value() : mesh::TriangleMesh{};
-}
+using test::readMeshOk;
 
 TEST(SharedMeshes, StanfordBunny) {
   POLDER_REQUIRE_SHARED_FILE(file, "meshes/stanford_bunny_bun_zipper.ply");
-  const mesh::TriangleMesh mesh = readShared(file);
+  const mesh::TriangleMesh mesh = readMeshOk(file);
   EXPECT_EQ(mesh.vertexCount(), 35947u);
   EXPECT_EQ(mesh.triangleCount(), 69451u);
   EXPECT_FALSE(mesh.hasColours());
@@ -31,10 +28,10 @@ TEST(SharedMeshes, StanfordBunny) {
 TEST(SharedMeshes, CowAndFandisk) {
   POLDER_REQUIRE_SHARED_FILE(cow, "meshes/cow.obj");
   POLDER_REQUIRE_SHARED_FILE(fandisk, "meshes/fandisk.obj");
-  const mesh::TriangleMesh cowMesh = readShared(cow);
+  const mesh::TriangleMesh cowMesh = readMeshOk(cow);
   EXPECT_EQ(cowMesh.vertexCount(), 2903u);
   EXPECT_EQ(cowMesh.triangleCount(), 5804u);
-  const mesh::TriangleMesh fandiskMesh = readShared(fandisk);
+  const mesh::TriangleMesh fandiskMesh = readMeshOk(fandisk);
   EXPECT_EQ(fandiskMesh.vertexCount(), 6475u);
   EXPECT_EQ(fandiskMesh.triangleCount(), 12946u);
 }
@@ -44,7 +41,7 @@ TEST(SharedMeshes, SpotWithBakedTexture) {
   POLDER_REQUIRE_SHARED_FILE(texture, "meshes/spot_texture.png");
   MeshReadOptions options;
   options.bakeTexture = texture;
-  const mesh::TriangleMesh mesh = readShared(file, options);
+  const mesh::TriangleMesh mesh = readMeshOk(file, options);
   EXPECT_EQ(mesh.triangleCount(), 5856u);
   EXPECT_EQ(mesh.vertexCount(), 2930u);
   ASSERT_TRUE(mesh.hasColours());
@@ -59,7 +56,7 @@ TEST(SharedMeshes, SpotWithBakedTexture) {
 
   // Without welding the UV seams stay split: more vertices, the same triangles.
   options.weldPositions = false;
-  const mesh::TriangleMesh unwelded = readShared(file, options);
+  const mesh::TriangleMesh unwelded = readMeshOk(file, options);
   EXPECT_GT(unwelded.vertexCount(), 2930u);
   EXPECT_EQ(unwelded.triangleCount(), 5856u);
 }

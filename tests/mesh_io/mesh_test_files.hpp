@@ -1,8 +1,7 @@
-// Makers of OBJ, PLY and PPM files for the mesh_io tests, and mesh comparisons.
+// Makers of OBJ, PLY and PPM files for the mesh_io tests, reading that must succeed, and
+// mesh comparisons.
 #pragma once
 
-#include <algorithm>
-#include <bit>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -13,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <polder/mesh/triangle_mesh.hpp>
+#include <polder/mesh_io/mesh_file.hpp>
 
 #include "sample_bytes.hpp"
 
@@ -95,6 +95,13 @@ inline std::string plyFile(const PlyContent& content, PlyEncoding encoding) {
 inline std::string ppmFile(int width, int height, const std::vector<std::uint8_t>& rgb) {
   return "P6\n" + std::to_string(width) + " " + std::to_string(height) + "\n255\n" +
          std::string(reinterpret_cast<const char*>(rgb.data()), rgb.size());
+}
+
+// readMesh, failing the test (and returning an empty mesh) on an error.
+inline mesh::TriangleMesh readMeshOk(const std::filesystem::path& file, const mesh_io::MeshReadOptions& options = {}) {
+  Result<mesh::TriangleMesh> mesh = mesh_io::readMesh(file, options);
+  EXPECT_TRUE(mesh.ok()) << mesh.error().message;
+  return mesh.ok() ? std::move(mesh).value() : mesh::TriangleMesh{};
 }
 
 template <class Vector>

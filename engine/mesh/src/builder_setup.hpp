@@ -20,13 +20,12 @@ struct NormalizedPositions {
 
 inline NormalizedPositions normalizePositions(const std::vector<glm::vec3>& positions) {
   NormalizedPositions out;
-  const double diagonal = boundingBoxDiagonal(positions);
+  const PositionBounds bounds = boundsOf(positions);
+  const double diagonal = bounds.diagonal();
   out.diagonal = diagonal > 0.0 ? diagonal : 1.0;
-  glm::dvec3 lo(positions.empty() ? glm::vec3(0.0f) : positions.front()), hi = lo;
-  for (const glm::vec3& p : positions) lo = glm::min(lo, glm::dvec3(p)), hi = glm::max(hi, glm::dvec3(p));
   out.positions.resize(positions.size());
-  for (std::size_t v = 0; v < positions.size(); ++v) out.positions[v] = (glm::dvec3(positions[v]) - lo) / out.diagonal;
-  out.extent = (hi - lo) / out.diagonal;
+  for (std::size_t v = 0; v < positions.size(); ++v) out.positions[v] = (glm::dvec3(positions[v]) - bounds.lo) / out.diagonal;
+  out.extent = (bounds.hi - bounds.lo) / out.diagonal;
   return out;
 }
 

@@ -9,6 +9,7 @@
 
 #include "builder_setup.hpp"
 #include "quadric.hpp"
+#include "triangle_planes.hpp"
 
 namespace polder::mesh {
 
@@ -114,9 +115,8 @@ class ClusterBuilder {
     for (std::uint32_t v = 0; v < m_vertexCount; ++v) schedule(v);
     std::uint32_t r = 0;
     while (m_liveTriangles > m_options.stopAtTriangles && nextRepresentative(r)) {
-      const float error = m_error;
       gather(r);
-      steps.add(r, m_members, error);
+      steps.add(r, m_members, m_error);
       removedCount += m_members.size();
       updateNeighbourhood(r);
       if (m_options.progress && removedCount >= nextReport) {
@@ -146,9 +146,10 @@ class ClusterBuilder {
         push(r);
         continue;
       }
-      // Only a cluster about to be taken gets the geometric checks.
+      // Only a cluster about to be taken gets the geometric checks; if they fail in this
+      // cell, the search for a valid cluster goes on in the next larger one.
       if (validateCluster(r)) scoreCluster(r);
-      else if (!evaluate(r, true)) continue;
+      else if (!growCell(r) || !evaluate(r, true)) continue;
       if (m_heap.empty() || m_priority <= m_heap.front().priority) return true;
       push(r);
     }
@@ -214,7 +215,8 @@ class ClusterBuilder {
 
     m_quadric.assign(m_vertexCount, Quadric{});
     std::vector<glm::dvec3> faceNormal(triangleCount, glm::dvec3(0.0));
-    for (std::uint32_t t = 0; t < triangleCount; ++t) faceNormal[t] = addFaceQuadric(t);
+    for (std::uint32_t t = 0; t < triangleCount; ++t)
+      faceNormal[t] = addTriangleQuadric(m_position, &m_corner[3 * t], m_quadric);
     setUpColours();
     const double meanEdge = classify(faceNormal);
 
@@ -234,19 +236,6 @@ class ClusterBuilder {
     m_heap.reserve(2 * std::size_t(m_vertexCount));
   }
 
-  // Adds triangle t's plane (weighted by its area) to its corners; returns its unit normal.
-  glm::dvec3 addFaceQuadric(std::uint32_t t) {
-    const glm::dvec3& a = m_position[m_corner[3 * t]];
-    const glm::dvec3 cross = glm::cross(m_position[m_corner[3 * t + 1]] - a, m_position[m_corner[3 * t + 2]] - a);
-    const double length = glm::length(cross);
-    if (length <= 0.0) return glm::dvec3(0.0);
-    const glm::dvec3 n = cross / length;
-    Quadric q;
-    q.addPlane(n, -glm::dot(n, a), 0.5 * length);
-    for (int k = 0; k < 3; ++k) m_quadric[m_corner[3 * t + k]] += q;
-    return n;
-  }
-
   // Area-weighted colour moments per cluster, so a cluster's squared colour deviation from
   // any colour costs O(1) (as in the collapse builder).
   void setUpColours() {
@@ -257,9 +246,7 @@ class ClusterBuilder {
       m_colour[v] = glm::dvec3(m_mesh.colours[v]) * m_options.colourWeight;
     m_moment0.assign(m_vertexCount, 0.0);
     for (std::uint32_t t = 0; t < m_corner.size() / 3; ++t) {
-      const glm::dvec3& a = m_position[m_corner[3 * t]];
-      const double third =
-          glm::length(glm::cross(m_position[m_corner[3 * t + 1]] - a, m_position[m_corner[3 * t + 2]] - a)) / 6.0;
+      const double third = glm::length(triangleCross(m_position, &m_corner[3 * t])) / 6.0;  // of its area
       for (int k = 0; k < 3; ++k) m_moment0[m_corner[3 * t + k]] += third;
     }
     m_moment1.resize(m_vertexCount);
@@ -285,8 +272,6 @@ class ClusterBuilder {
     });
 
     m_featureCosine = std::cos(m_options.featureAngleDegrees * 3.14159265358979323846 / 180.0);
-    const double colourTolerance2 =
-        kColourBorderTolerance * kColourBorderTolerance * m_options.colourWeight * m_options.colourWeight;
     std::vector<std::uint32_t> neighbours(m_vertexCount, 0);
     std::vector<std::uint8_t> nonManifold(m_vertexCount, 0);
     std::vector<Edge> sharpEdges, boundaryEdges;
@@ -302,7 +287,8 @@ class ClusterBuilder {
       ++edgeCount;
       if (j - i == 1) {
         boundaryEdges.push_back({a, b});
-        addBoundaryPlane(sides[i], faceNormal[sides[i].triangle]);
+        addBoundaryEdgeQuadric(m_position[a], m_position[b], faceNormal[sides[i].triangle], kBoundaryWeight,
+                               m_quadric[a], m_quadric[b]);
       } else if (j - i == 2) {
         const glm::dvec3 n0 = faceNormal[sides[i].triangle];
         // Two consistently oriented triangles run the edge in opposite directions.
@@ -312,10 +298,7 @@ class ClusterBuilder {
       } else {
         nonManifold[a] = nonManifold[b] = 1;
       }
-      if (m_useColours) {
-        const glm::dvec3 d = m_colour[a] - m_colour[b];
-        if (glm::dot(d, d) > colourTolerance2) m_colourBorder[a] = m_colourBorder[b] = 1;
-      }
+      if (m_useColours && coloursDiffer(a, b)) m_colourBorder[a] = m_colourBorder[b] = 1;
       i = j;
     }
     const double meanEdge = edgeCount > 0 ? edgeLengthSum / double(edgeCount) : 1.0;
@@ -346,10 +329,7 @@ class ClusterBuilder {
 
     // A line through v turns sharply when its two edges are far from collinear.
     auto turns = [&](std::uint32_t v, const std::vector<std::uint32_t>& slots) {
-      const std::uint32_t a = slots[2 * v], b = slots[2 * v + 1];
-      const glm::dvec3 in = m_position[v] - m_position[a], out = m_position[b] - m_position[v];
-      const double lengths = glm::length(in) * glm::length(out);
-      return !(glm::dot(in, out) >= m_featureCosine * lengths) || lengths <= 0.0;
+      return turnsSharply(slots[2 * v], v, slots[2 * v + 1]);
     };
     m_class.assign(m_vertexCount, VertexClass::Complex);
     for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
@@ -411,20 +391,6 @@ class ClusterBuilder {
     return (std::uint64_t(corner) << 32) | line;
   }
 
-  // A plane through a boundary edge, perpendicular to its triangle, keeps the outline.
-  void addBoundaryPlane(const EdgeSide& side, const glm::dvec3& faceNormal) {
-    const glm::dvec3 edge = m_position[side.hi] - m_position[side.lo];
-    const glm::dvec3 planeNormal = glm::cross(edge, faceNormal);
-    const double length = glm::length(planeNormal);
-    if (length <= 0.0) return;
-    const glm::dvec3 n = planeNormal / length;
-    Quadric q;
-    q.addPlane(n, -glm::dot(n, m_position[side.lo]), kBoundaryWeight * glm::dot(edge, edge));
-    q.weight = 0.0;  // the outline's planes do not dilute the mean surface error
-    m_quadric[side.lo] += q;
-    m_quadric[side.hi] += q;
-  }
-
   // --- One candidate cluster -----------------------------------------------------------
 
   // The cluster r would gather now (m_members), its priority and error. A cell that holds
@@ -436,10 +402,16 @@ class ClusterBuilder {
       growTree(r, m_cell[r]);
       dropCostlyMembers(r);
       if (!m_members.empty() && (!validate || validateCluster(r))) break;
-      if (m_cell[r] >= m_cellLimit) return false;
-      m_cell[r] = std::min(m_cell[r] * m_options.cellGrowth, m_cellLimit);
+      if (!growCell(r)) return false;
     }
     scoreCluster(r);
+    return true;
+  }
+
+  // Grows r's cell by `cellGrowth`; false once it already covers the bounding box.
+  bool growCell(std::uint32_t r) {
+    if (m_cell[r] >= m_cellLimit) return false;
+    m_cell[r] = std::min(m_cell[r] * m_options.cellGrowth, m_cellLimit);
     return true;
   }
 
@@ -499,13 +471,15 @@ class ClusterBuilder {
         break;
       default: return false;  // corners and complex vertices never join
     }
-    if (m_useColours && m_colourBorder[x]) {
-      if (!m_colourBorder[p]) return false;
-      const glm::dvec3 d = m_colour[p] - m_colour[x];
-      const double tolerance = kColourBorderTolerance * m_options.colourWeight;
-      if (glm::dot(d, d) > tolerance * tolerance) return false;  // the other side of the border
-    }
-    return true;
+    // A colour-border vertex joins along its own side of the border.
+    return !m_useColours || !m_colourBorder[x] || (m_colourBorder[p] && !coloursDiffer(p, x));
+  }
+
+  // Whether neighbours a and b differ in colour by more than kColourBorderTolerance.
+  bool coloursDiffer(std::uint32_t a, std::uint32_t b) const {
+    const glm::dvec3 d = m_colour[a] - m_colour[b];
+    const double tolerance = kColourBorderTolerance * m_options.colourWeight;
+    return glm::dot(d, d) > tolerance * tolerance;
   }
 
   bool isBoundaryEdge(std::uint32_t p, std::uint32_t x) const {
@@ -535,10 +509,8 @@ class ClusterBuilder {
     double sum = 0.0;
     for (std::size_t i = 0; i < m_members.size(); ++i) sum += m_memberCost[i] = memberCost(m_members[i], r);
     const double limit = kOutlierFactor * sum / double(m_members.size());
-    for (std::size_t i = 0; i < m_members.size(); ++i) {
-      if (m_memberCost[i] > limit || (m_parent[i] != kNone && m_dropped[m_parent[i]])) m_dropped[i] = 1;
-      if (m_dropped[i]) m_mark[m_members[i]] = 0;
-    }
+    for (std::size_t i = 0; i < m_members.size(); ++i) m_dropped[i] = m_memberCost[i] > limit;
+    dropSubtrees();
     removeDroppedMembers();
   }
 
@@ -575,17 +547,16 @@ class ClusterBuilder {
       for (std::uint32_t t : m_fan[v]) {
         if (!m_triangleAlive[t] || m_triangleSeen[t] == m_linkStamp) continue;
         m_triangleSeen[t] = m_linkStamp;
-        const std::uint32_t* c = &m_corner[3 * t];
-        const int marked = (m_mark[c[0]] == m_stamp) + (m_mark[c[1]] == m_stamp) + (m_mark[c[2]] == m_stamp);
+        const bool vanishing = vanishes(t);
         for (int k = 0; k < 3; ++k) {
-          const std::uint32_t x = c[k];
+          const std::uint32_t x = m_corner[3 * t + k];
           if (m_mark[x] == m_stamp) continue;
           if (m_linkSeen[x] != m_linkStamp) {
             m_linkSeen[x] = m_linkStamp;
             m_keptOnEdge[x] = m_vanishing[x] = 0;
             m_touched.push_back(x);
           }
-          ++(marked >= 2 ? m_vanishing[x] : m_keptOnEdge[x]);
+          ++(vanishing ? m_vanishing[x] : m_keptOnEdge[x]);
         }
       }
     };
@@ -639,10 +610,8 @@ class ClusterBuilder {
   // marked corner) by more than the limit, or flattens it.
   bool moveFlipsATriangle(std::uint32_t v, std::uint32_t r) const {
     for (std::uint32_t t : m_fan[v]) {
-      if (!m_triangleAlive[t]) continue;
+      if (!m_triangleAlive[t] || vanishes(t)) continue;
       const std::uint32_t* c = &m_corner[3 * t];
-      const int marked = (m_mark[c[0]] == m_stamp) + (m_mark[c[1]] == m_stamp) + (m_mark[c[2]] == m_stamp);
-      if (marked >= 2) continue;  // it vanishes
       glm::dvec3 p[3], q[3];
       for (int k = 0; k < 3; ++k) {
         p[k] = m_position[c[k]];
@@ -657,14 +626,17 @@ class ClusterBuilder {
     return false;
   }
 
+  // Whether triangle t has two or three marked corners (r and the cluster): the step
+  // removes it; a triangle with one marked corner is re-pointed at r.
+  bool vanishes(std::uint32_t t) const {
+    const std::uint32_t* c = &m_corner[3 * t];
+    return (m_mark[c[0]] == m_stamp) + (m_mark[c[1]] == m_stamp) + (m_mark[c[2]] == m_stamp) >= 2;
+  }
+
   // Whether some triangle at the cluster survives the step. If none does, the piece of
   // surface holding r would vanish whole: the coarsest level keeps at least a triangle.
   bool keepsATriangle(std::uint32_t r) const {
-    auto survives = [&](std::uint32_t t) {
-      if (!m_triangleAlive[t]) return false;
-      const std::uint32_t* c = &m_corner[3 * t];
-      return (m_mark[c[0]] == m_stamp) + (m_mark[c[1]] == m_stamp) + (m_mark[c[2]] == m_stamp) < 2;
-    };
+    auto survives = [&](std::uint32_t t) { return m_triangleAlive[t] && !vanishes(t); };
     if (std::any_of(m_fan[r].begin(), m_fan[r].end(), survives)) return true;
     for (std::uint32_t v : m_members)
       if (std::any_of(m_fan[v].begin(), m_fan[v].end(), survives)) return true;
@@ -710,15 +682,13 @@ class ClusterBuilder {
     for (std::uint32_t v : m_members) {
       for (std::uint32_t t : m_fan[v]) {
         if (!m_triangleAlive[t]) continue;
-        std::uint32_t* c = &m_corner[3 * t];
-        const int marked = (m_mark[c[0]] == m_stamp) + (m_mark[c[1]] == m_stamp) + (m_mark[c[2]] == m_stamp);
-        if (marked >= 2) {
+        if (vanishes(t)) {
           m_triangleAlive[t] = 0;
           --m_liveTriangles;
           continue;
         }
         for (int k = 0; k < 3; ++k)
-          if (c[k] == v) c[k] = r;
+          if (m_corner[3 * t + k] == v) m_corner[3 * t + k] = r;
         m_fan[r].push_back(t);
       }
       std::vector<std::uint32_t>().swap(m_fan[v]);
@@ -771,36 +741,38 @@ class ClusterBuilder {
       m_class[x] = VertexClass::Simple;
       return true;
     }
-    if (boundaryEdges != 2 || m_class[x] != VertexClass::Corner) return false;
-    const glm::dvec3 in = m_position[x] - m_position[boundary[0]], out = m_position[boundary[1]] - m_position[x];
-    const double lengths = glm::length(in) * glm::length(out);
-    if (!(lengths > 0.0) || glm::dot(in, out) < m_featureCosine * lengths) return false;
+    if (boundaryEdges != 2 || m_class[x] != VertexClass::Corner || turnsSharply(boundary[0], x, boundary[1]))
+      return false;
     m_class[x] = VertexClass::Boundary;
     return true;
   }
 
+  // Whether the line a -> v -> b turns at v by more than the feature angle (its two edges
+  // far from collinear), or has an edge of no length.
+  bool turnsSharply(std::uint32_t a, std::uint32_t v, std::uint32_t b) const {
+    const glm::dvec3 in = m_position[v] - m_position[a], out = m_position[b] - m_position[v];
+    const double lengths = glm::length(in) * glm::length(out);
+    return !(lengths > 0.0) || glm::dot(in, out) < m_featureCosine * lengths;
+  }
+
   // Whether the current triangles s and t on edge (x, y) meet at more than the feature angle.
   bool isSharp(std::uint32_t x, std::uint32_t y, std::uint32_t s, std::uint32_t t) const {
-    auto normal = [&](std::uint32_t u) {
-      const glm::dvec3& a = m_position[m_corner[3 * u]];
-      return glm::cross(m_position[m_corner[3 * u + 1]] - a, m_position[m_corner[3 * u + 2]] - a);
-    };
     auto runsForward = [&](std::uint32_t u) {  // u's corners go x -> y
       for (int k = 0; k < 3; ++k)
         if (m_corner[3 * u + k] == x) return m_corner[3 * u + (k + 1) % 3] == y;
       return false;
     };
-    const glm::dvec3 ns = normal(s), nt = normal(t) * (runsForward(s) != runsForward(t) ? 1.0 : -1.0);
+    const glm::dvec3 ns = triangleCross(m_position, &m_corner[3 * s]);
+    const glm::dvec3 nt = triangleCross(m_position, &m_corner[3 * t]) * (runsForward(s) != runsForward(t) ? 1.0 : -1.0);
     const double lengths = glm::length(ns) * glm::length(nt);
     return lengths > 0.0 && glm::dot(ns, nt) < m_featureCosine * lengths;
   }
 
-  // r's current neighbours, each once.
+  // r's current neighbours, each once (gather left r's fan free of dead triangles).
   void collectRing(std::uint32_t r) {
     m_ring.clear();
     ++m_ringStamp;
     m_ringMark[r] = m_ringStamp;
-    compactFan(r);
     for (std::uint32_t t : m_fan[r])
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t x = m_corner[3 * t + k];

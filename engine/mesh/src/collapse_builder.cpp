@@ -9,6 +9,7 @@
 #include "builder_setup.hpp"
 #include "indexed_min_heap.hpp"
 #include "quadric.hpp"
+#include "triangle_planes.hpp"
 
 namespace polder::mesh {
 
@@ -84,7 +85,8 @@ class CollapseBuilder {
 
     setUpAttributes();
     m_quadric.assign(m_vertexCount, Quadric{});
-    for (std::uint32_t t = 0; t < triangleCount; ++t) addTriangleQuadric(t);
+    for (std::uint32_t t = 0; t < triangleCount; ++t) addTriangle(t);
+    setUpAttributeMoments();
     m_markA.assign(m_vertexCount, 0);
     m_markB.assign(m_vertexCount, 0);
     m_slot.assign(m_vertexCount, 0);
@@ -98,11 +100,12 @@ class CollapseBuilder {
 
   void setUpAttributes() {
     m_dims = 0;
+    std::vector<double> weights;
     auto addDims = [&](int count, double weight, bool present) {
       if (!present || weight <= 0.0) return -1;
       const int first = m_dims;
       m_dims += count;
-      m_attributeWeights.insert(m_attributeWeights.end(), count, weight);
+      weights.insert(weights.end(), count, weight);
       return first;
     };
     const int normalAt = addDims(3, m_options.normalWeight, m_mesh.hasNormals());
@@ -115,16 +118,16 @@ class CollapseBuilder {
       for (int k = 0; normalAt >= 0 && k < 3; ++k) a[normalAt + k] = m_mesh.normals[v][k];
       for (int k = 0; colourAt >= 0 && k < 3; ++k) a[colourAt + k] = m_mesh.colours[v][k];
       for (int k = 0; uvAt >= 0 && k < 2; ++k) a[uvAt + k] = m_mesh.uvs[v][k];
-      for (int k = 0; k < m_dims; ++k) a[k] *= m_attributeWeights[k];
+      for (int k = 0; k < m_dims; ++k) a[k] *= weights[k];
     }
-    // Moments of each cluster's attributes, weighted by a third of the incident areas.
-    m_moment0.assign(m_vertexCount, 0.0);
+    m_moment0.assign(m_vertexCount, 0.0);  // filled with areas by addTriangle
+  }
+
+  // Moments of each cluster's attributes, weighted by a third of the incident areas.
+  void setUpAttributeMoments() {
+    if (m_dims == 0) return;
     m_moment1.assign(std::size_t(m_vertexCount) * m_dims, 0.0);
     m_moment2.assign(m_vertexCount, 0.0);
-    for (std::uint32_t t = 0; t < m_corner.size() / 3; ++t) {
-      const double third = triangleArea(t) / 3.0;
-      for (int k = 0; k < 3; ++k) m_moment0[m_corner[3 * t + k]] += third;
-    }
     for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
       const double* a = &m_attribute[std::size_t(v) * m_dims];
       double squared = 0.0;
@@ -136,20 +139,13 @@ class CollapseBuilder {
     }
   }
 
-  double triangleArea(std::uint32_t t) const {
-    const glm::dvec3& a = m_position[m_corner[3 * t]];
-    return 0.5 * glm::length(glm::cross(m_position[m_corner[3 * t + 1]] - a, m_position[m_corner[3 * t + 2]] - a));
-  }
-
-  void addTriangleQuadric(std::uint32_t t) {
-    const glm::dvec3& a = m_position[m_corner[3 * t]];
-    const glm::dvec3 cross = glm::cross(m_position[m_corner[3 * t + 1]] - a, m_position[m_corner[3 * t + 2]] - a);
-    const double length = glm::length(cross);
-    if (length <= 0.0) return;
-    const glm::dvec3 n = cross / length;
-    Quadric q;
-    q.addPlane(n, -glm::dot(n, a), 0.5 * length);
-    for (int k = 0; k < 3; ++k) m_quadric[m_corner[3 * t + k]] += q;
+  // The triangle's plane into its corners' quadrics, its area into their attribute weights.
+  void addTriangle(std::uint32_t t) {
+    const std::uint32_t* corner = &m_corner[3 * t];
+    addTriangleQuadric(m_position, corner, m_quadric);
+    if (m_dims == 0) return;
+    const double thirdOfArea = glm::length(triangleCross(m_position, corner)) / 6.0;
+    for (int k = 0; k < 3; ++k) m_moment0[corner[k]] += thirdOfArea;
   }
 
   // Gathers v's live triangles (dropping dead ones from its fan) and its neighbours with
@@ -200,6 +196,13 @@ class CollapseBuilder {
         if (coloursDiffer(v, n.vertex)) m_colourBorder[v] = 1;
   }
 
+  // The rules every option v -> u obeys besides the boundary's: one region, and a vertex
+  // beside a colour border only onto another of its own colour beside the border.
+  bool mayJoin(std::uint32_t v, std::uint32_t u) const {
+    if (m_partition.regionOf(v) != m_partition.regionOf(u)) return false;
+    return !m_colourBorder[v] || (m_colourBorder[u] && !coloursDiffer(v, u));
+  }
+
   bool coloursDiffer(std::uint32_t a, std::uint32_t b) const {
     const glm::vec3 d = glm::vec3(m_mesh.colours[a]) - glm::vec3(m_mesh.colours[b]);
     return glm::dot(d, d) > kColourDiscontinuity * kColourDiscontinuity;
@@ -214,17 +217,10 @@ class CollapseBuilder {
         const auto shared = std::find_if(m_neighbours.begin(), m_neighbours.end(),
                                          [b](const Neighbour& n) { return n.vertex == b; });
         if (shared == m_neighbours.end() || shared->sharedTriangles != 1) continue;
-        const glm::dvec3 edge = m_position[b] - m_position[a];
-        const glm::dvec3 faceNormal = glm::cross(edge, m_position[m_corner[3 * t + (k + 2) % 3]] - m_position[a]);
-        const glm::dvec3 planeNormal = glm::cross(edge, faceNormal);
-        const double length = glm::length(planeNormal);
-        if (length <= 0.0) continue;
-        const glm::dvec3 n = planeNormal / length;
-        Quadric q;
-        q.addPlane(n, -glm::dot(n, m_position[a]), m_options.boundaryWeight * glm::dot(edge, edge));
-        q.weight = 0.0;  // the outline's planes do not dilute the mean surface error
-        m_quadric[a] += q;
-        m_quadric[b] += q;
+        const glm::dvec3 faceNormal =
+            glm::cross(m_position[b] - m_position[a], m_position[m_corner[3 * t + (k + 2) % 3]] - m_position[a]);
+        addBoundaryEdgeQuadric(m_position[a], m_position[b], faceNormal, m_options.boundaryWeight, m_quadric[a],
+                               m_quadric[b]);
       }
     }
   }
@@ -264,28 +260,23 @@ class CollapseBuilder {
     m_queue.remove(v);
     if (!m_alive[v] || m_kind[v] == VertexKind::Locked) return;
     gatherNeighbours(v, m_neighbours);
-    const std::uint32_t region = m_partition.regionOf(v);
-    m_options_scratch.clear();
+    m_optionScratch.clear();
     for (const Neighbour& n : m_neighbours) {
-      if (m_partition.regionOf(n.vertex) != region) continue;
       if (m_kind[v] == VertexKind::Border && n.sharedTriangles != 1) continue;
-      if (m_colourBorder[v] && (!m_colourBorder[n.vertex] || coloursDiffer(v, n.vertex))) continue;
-      m_options_scratch.push_back({collapseCost(v, n.vertex), n.vertex});
+      if (mayJoin(v, n.vertex)) m_optionScratch.push_back({collapseCost(v, n.vertex), n.vertex});
     }
     auto cheaper = [](const Option& x, const Option& y) { return x.cost < y.cost; };
-    if (validate) std::sort(m_options_scratch.begin(), m_options_scratch.end(), cheaper);
-    else if (!m_options_scratch.empty())
-      std::iter_swap(m_options_scratch.begin(),
-                     std::min_element(m_options_scratch.begin(), m_options_scratch.end(), cheaper));
-    for (const Option& option : m_options_scratch) {
+    if (validate) std::sort(m_optionScratch.begin(), m_optionScratch.end(), cheaper);
+    else if (!m_optionScratch.empty())
+      std::iter_swap(m_optionScratch.begin(),
+                     std::min_element(m_optionScratch.begin(), m_optionScratch.end(), cheaper));
+    for (const Option& option : m_optionScratch) {
       if (validate && !collapseIsValid(v, option.vertex)) continue;
       m_target[v] = option.vertex;
       m_queue.set(v, option.cost);
       return;
     }
   }
-
-
 
   // Link condition and normal check for moving v onto its neighbour u.
   bool collapseIsValid(std::uint32_t v, std::uint32_t u) {
@@ -347,7 +338,7 @@ class CollapseBuilder {
       for (int k = 0; k < 3; ++k)
         if (c[k] != v && m_markA[c[k]] != m_stamp) {
           m_markA[c[k]] = m_stamp;
-          m_ring.push_back({c[k], 0});
+          m_ring.push_back(c[k]);
         }
       if (c[0] == u || c[1] == u || c[2] == u) {
         m_triangleAlive[t] = 0;
@@ -371,15 +362,13 @@ class CollapseBuilder {
     // theirs) and those aiming at v lost theirs. Everyone else keeps the costs of their
     // options (a target's position never moves); validity is checked at the pop.
     updateCandidate(u, false);
-    for (std::size_t i = 0; i < m_ring.size(); ++i) {
-      const std::uint32_t x = m_ring[i].vertex;
+    for (const std::uint32_t x : m_ring) {
       if (x == u || !m_alive[x] || m_kind[x] == VertexKind::Locked) continue;
       if (m_target[x] == v || m_kind[x] == VertexKind::Border) {
         updateCandidate(x, false);
         continue;
       }
-      if (m_partition.regionOf(x) != m_partition.regionOf(u)) continue;
-      if (m_colourBorder[x] && (!m_colourBorder[u] || coloursDiffer(x, u))) continue;
+      if (!mayJoin(x, u)) continue;
       const float cost = collapseCost(x, u);
       if (m_target[x] != kNone && m_queue.contains(x) && !(cost < m_queue.key(x))) continue;
       m_target[x] = u;
@@ -399,7 +388,6 @@ class CollapseBuilder {
   std::vector<std::vector<std::uint32_t>> m_fan;
   std::vector<Quadric> m_quadric;
   int m_dims = 0;
-  std::vector<double> m_attributeWeights;
   std::vector<double> m_attribute;  // per vertex, m_dims weighted values
   std::vector<double> m_moment0, m_moment1, m_moment2;
   std::vector<std::uint8_t> m_alive;
@@ -410,8 +398,9 @@ class CollapseBuilder {
   std::vector<std::uint32_t> m_slot;  // a marked neighbour's place in the gathered list
   std::uint32_t m_stamp = 0;
   IndexedMinHeap m_queue{0};  // vertices by the cost of their queued collapse
-  std::vector<Neighbour> m_neighbours, m_ring;
-  std::vector<Option> m_options_scratch;
+  std::vector<Neighbour> m_neighbours;
+  std::vector<std::uint32_t> m_ring;  // the removed vertex's neighbours
+  std::vector<Option> m_optionScratch;
 };
 
 }  // namespace

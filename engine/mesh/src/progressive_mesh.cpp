@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <limits>
-#include <numeric>
 #include <string>
 
 namespace polder::mesh {
@@ -54,7 +53,7 @@ std::uint32_t RegionSequence::levelForError(float error) const {
 
 std::size_t RegionSequence::memoryBytes() const {
   return bytesOf(m_trianglesAfterSteps) + bytesOf(m_verticesAfterSteps) + bytesOf(m_errorAfterSteps) +
-         bytesOf(m_fullIndices) + bytesOf(m_foreignCorners) + bytesOf(m_borderVertices) + bytesOf(m_cornerChangeBegin) +
+         bytesOf(m_fullIndices) + bytesOf(m_foreignCorners) + bytesOf(m_borderVertices) + bytesOf(m_readers) + bytesOf(m_cornerChangeBegin) +
          bytesOf(m_cornerChanges) + bytesOf(m_borderChangeBegin) + bytesOf(m_borderChanges);
 }
 
@@ -98,17 +97,16 @@ class ProgressiveMeshAssembler {
     m_regionStepCount.assign(m_partition.regionCount, 0);
     for (std::size_t s = 0; s < m_steps.size(); ++s) {
       const std::uint32_t rep = m_steps.representative[s];
-      const std::string where = "simplification step " + std::to_string(s);
-      if (rep >= vertexCount) return makeError(ErrorKind::InvalidArgument, where + ": representative out of range");
-      if (m_removalStep[rep] != kNever)
-        return makeError(ErrorKind::InvalidArgument, where + ": representative " + std::to_string(rep) + " was removed");
+      auto fail = [s](const std::string& problem) {
+        return makeError(ErrorKind::InvalidArgument, "simplification step " + std::to_string(s) + ": " + problem);
+      };
+      if (rep >= vertexCount) return fail("representative out of range");
+      if (m_removalStep[rep] != kNever) return fail("representative " + std::to_string(rep) + " was removed");
       const std::uint32_t region = m_partition.regionOf(rep);
       for (std::uint32_t v : m_steps.removedBy(s)) {
-        if (v >= vertexCount) return makeError(ErrorKind::InvalidArgument, where + ": vertex out of range");
-        if (v == rep || m_removalStep[v] != kNever)
-          return makeError(ErrorKind::InvalidArgument, where + ": vertex " + std::to_string(v) + " is not active");
-        if (m_partition.regionOf(v) != region)
-          return makeError(ErrorKind::InvalidArgument, where + ": joins vertices of two regions");
+        if (v >= vertexCount) return fail("vertex out of range");
+        if (v == rep || m_removalStep[v] != kNever) return fail("vertex " + std::to_string(v) + " is not active");
+        if (m_partition.regionOf(v) != region) return fail("joins vertices of two regions");
         m_removalStep[v] = static_cast<std::uint32_t>(s);
       }
       m_localStep[s] = m_regionStepCount[region]++;
@@ -153,14 +151,13 @@ class ProgressiveMeshAssembler {
     m_recordedBegin.assign(m_partition.regionCount, {0});
     m_borderRecorded.resize(m_partition.regionCount);
     m_borderRecordedBegin.assign(m_partition.regionCount, {0});
-    std::vector<std::uint32_t> dyingNow;
     for (std::size_t s = 0; s < m_steps.size(); ++s) {
       const std::uint32_t rep = m_steps.representative[s];
       const std::uint32_t region = m_partition.regionOf(rep);
       const std::uint32_t local = m_localStep[s];
       std::vector<RecordedChange>& changes = m_recorded[region];
       const std::size_t changesBefore = changes.size();
-      dyingNow.clear();
+      bool anyVanished = false;
       for (std::uint32_t v : m_steps.removedBy(s)) {
         // Move v's corners onto rep's list, dropping those of triangles already gone.
         for (std::uint32_t k = m_cornerHead[v], next; k != kNever; k = next) {
@@ -172,7 +169,7 @@ class ProgressiveMeshAssembler {
             changes.push_back({t, k % 3, v, rep});
             if (isDegenerate(t)) {
               m_vanishStep[t] = local;
-              dyingNow.push_back(t);
+              anyVanished = true;
             }
           }
           m_cornerNext[k] = m_cornerHead[rep];
@@ -188,7 +185,7 @@ class ProgressiveMeshAssembler {
         m_entryHead[v] = kNever;
       }
       // A triangle that vanishes in this step leaves the drawn prefix; its corners need no change.
-      if (!dyingNow.empty()) {
+      if (anyVanished) {
         auto kept = std::remove_if(changes.begin() + static_cast<std::ptrdiff_t>(changesBefore), changes.end(),
                                    [&](const RecordedChange& c) { return m_vanishStep[c.triangle] == local; });
         changes.erase(kept, changes.end());
@@ -251,7 +248,7 @@ class ProgressiveMeshAssembler {
       std::vector<std::uint32_t>& tris = trianglesOf[r];
       {  // Survivors first, then those that vanish last.
         const auto bucket = [&](std::uint32_t i) {
-          const std::uint32_t key = vanishKey(tris[i]);
+          const std::uint32_t key = m_vanishStep[tris[i]];
           return key == kNever ? 0u : std::uint32_t(stepCount) - key;
         };
         const std::vector<std::uint32_t> sorted =
@@ -265,10 +262,14 @@ class ProgressiveMeshAssembler {
         const std::uint32_t t = tris[i];
         slotOf[t] = 3 * i;
         for (std::uint32_t c = 0; c < 3; ++c) {
-          const std::uint32_t original = originalCorner(t, c);
+          const std::uint32_t original = m_originalCorners[3 * t + c];
           seq.m_fullIndices[3 * i + c] = newIndex[original];
           const std::uint32_t cornerRegion = m_partition.regionOf(original);
-          if (cornerRegion != r) seq.m_foreignCorners.push_back({3 * i + c, cornerRegion, m_entryOf[original]});
+          if (cornerRegion == r) continue;
+          seq.m_foreignCorners.push_back({3 * i + c, cornerRegion, m_entryOf[original]});
+          // Regions are visited in order, so each reader list stays ascending.
+          std::vector<std::uint32_t>& readers = out.m_regions[cornerRegion].m_readers;
+          if (readers.empty() || readers.back() != r) readers.push_back(r);
         }
       }
       // Counts after m steps.
@@ -276,7 +277,7 @@ class ProgressiveMeshAssembler {
       seq.m_verticesAfterSteps.assign(stepCount + 1, 0);
       seq.m_errorAfterSteps.assign(stepCount + 1, 0.0f);
       std::vector<std::uint32_t> vanishing(stepCount + 1, 0), removing(stepCount + 1, 0);
-      for (std::uint32_t t : tris) ++vanishing[std::min<std::size_t>(vanishKey(t), stepCount)];
+      for (std::uint32_t t : tris) ++vanishing[std::min<std::size_t>(m_vanishStep[t], stepCount)];
       std::uint32_t regionVertices = 0;
       for (std::uint32_t i = vertexCursor; i < vertexCount && out.m_vertexRegion[i] == r; ++i) {
         ++regionVertices;
@@ -317,11 +318,6 @@ class ProgressiveMeshAssembler {
       out.m_vertices.indices.insert(out.m_vertices.indices.end(), seq.m_fullIndices.begin(), seq.m_fullIndices.end());
     }
     return out;
-  }
-
-  std::uint32_t vanishKey(std::uint32_t t) const { return m_vanishStep[t]; }
-  std::uint32_t originalCorner(std::uint32_t t, std::uint32_t c) const {
-    return m_originalCorners[3 * t + c];
   }
 
   const TriangleMesh& m_mesh;

@@ -7,21 +7,12 @@ namespace polder::mesh {
 ProgressiveMeshInstance::ProgressiveMeshInstance(const ProgressiveMesh& mesh) : m_mesh(&mesh) {
   const std::uint32_t regionCount = mesh.regionCount();
   m_regions.resize(regionCount);
-  m_readers.resize(regionCount);
   for (std::uint32_t r = 0; r < regionCount; ++r) {
     const RegionSequence& seq = mesh.region(r);
     RegionState& state = m_regions[r];
     state.level = seq.levelCount();
     state.indices.assign(seq.fullIndices().begin(), seq.fullIndices().end());
     state.borderTable.assign(seq.borderVertices().begin(), seq.borderVertices().end());
-    for (const ForeignCorner& corner : seq.foreignCorners()) {
-      std::vector<std::uint32_t>& readers = m_readers[corner.region];
-      if (readers.empty() || readers.back() != r) readers.push_back(r);
-    }
-  }
-  for (auto& readers : m_readers) {
-    std::sort(readers.begin(), readers.end());
-    readers.erase(std::unique(readers.begin(), readers.end()), readers.end());
   }
 }
 
@@ -51,7 +42,7 @@ void ProgressiveMeshInstance::setLevel(std::uint32_t region, std::uint32_t level
   m_writes += tableWrites;
   state.level = level;
   if (tableWrites > 0)
-    for (std::uint32_t reader : m_readers[region]) m_regions[reader].bordersStale = true;
+    for (std::uint32_t reader : seq.readers()) m_regions[reader].bordersStale = true;
 }
 
 void ProgressiveMeshInstance::resolveBorders() {

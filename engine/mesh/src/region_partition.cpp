@@ -8,23 +8,8 @@ namespace polder::mesh {
 
 namespace {
 
-struct Bounds {
-  glm::dvec3 lo{0.0}, hi{0.0};
-};
-
-Bounds boundsOf(const std::vector<glm::vec3>& positions) {
-  Bounds b;
-  if (positions.empty()) return b;
-  b.lo = b.hi = glm::dvec3(positions.front());
-  for (const glm::vec3& p : positions) {
-    b.lo = glm::min(b.lo, glm::dvec3(p));
-    b.hi = glm::max(b.hi, glm::dvec3(p));
-  }
-  return b;
-}
-
 // Cell index of every vertex for a grid of cellsPerAxis over b, then dense renumbering.
-RegionPartition partitionByCells(const std::vector<glm::vec3>& positions, const Bounds& b,
+RegionPartition partitionByCells(const std::vector<glm::vec3>& positions, const PositionBounds& b,
                                  const std::array<std::uint32_t, 3>& cellsPerAxis) {
   const glm::dvec3 extent = glm::max(b.hi - b.lo, glm::dvec3(1e-30));
   std::vector<std::uint32_t> cellOf(positions.size());
@@ -56,7 +41,7 @@ RegionPartition partitionByCells(const std::vector<glm::vec3>& positions, const 
 RegionPartition singleRegion() { return RegionPartition{}; }
 
 RegionPartition gridPartition(const std::vector<glm::vec3>& positions, std::array<std::uint32_t, 3> cells) {
-  const Bounds b = boundsOf(positions);
+  const PositionBounds b = boundsOf(positions);
   // Axes by decreasing extent: cells[0] cuts the longest one.
   const glm::dvec3 extent = b.hi - b.lo;
   std::array<int, 3> order{0, 1, 2};
@@ -68,7 +53,7 @@ RegionPartition gridPartition(const std::vector<glm::vec3>& positions, std::arra
 
 RegionPartition automaticPartition(const std::vector<glm::vec3>& positions, std::uint32_t regionCount) {
   if (regionCount <= 1 || positions.empty()) return singleRegion();
-  const Bounds b = boundsOf(positions);
+  const PositionBounds b = boundsOf(positions);
   const glm::dvec3 extent = glm::max(b.hi - b.lo, glm::dvec3(1e-30));
   const double longest = std::max(extent.x, std::max(extent.y, extent.z));
   // Shrink a cubic cell until enough cells hold vertices (a surface fills few of a volume's cells).

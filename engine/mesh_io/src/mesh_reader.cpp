@@ -7,8 +7,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
-#include <algorithm>
-#include <cctype>
+#include <cassert>
 #include <cerrno>
 #include <cmath>
 #include <exception>
@@ -18,22 +17,18 @@
 #include <string>
 #include <system_error>
 
+#include <polder/one_line.hpp>
+
+#include "mesh_format.hpp"
 #include "obj_check.hpp"
 #include "ply_check.hpp"
-#include "text_scan.hpp"
 #include "texture_bake.hpp"
 #include "vertex_merge.hpp"
 
 namespace polder::mesh_io {
 namespace {
 
-enum class MeshFormat { Obj, Ply };
-
-std::string lowerExtension(const std::filesystem::path& file) {
-  std::string extension = file.extension().string();
-  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return extension;
-}
+using detail::MeshFormat;
 
 Result<std::string> readWholeFile(const std::filesystem::path& file) {
   std::error_code code;
@@ -69,14 +64,7 @@ class NoFileSystem : public Assimp::IOSystem {
 
 // Assimp's meshes as they come, before any merging of vertices: normals are zero where a
 // mesh has none (when some have), colours white, texture coordinates (0, 0).
-struct Imported {
-  mesh::TriangleMesh mesh;
-  bool fileHasNormals = false;
-};
-
-float unitColour(float value) { return std::isfinite(value) ? std::clamp(value, 0.0f, 1.0f) : 0.0f; }
-
-Result<Imported> mergeMeshes(const aiScene& scene) {
+Result<mesh::TriangleMesh> mergeMeshes(const aiScene& scene) {
   bool anyNormals = false, anyColours = false, anyUvs = false;
   std::size_t vertexTotal = 0;
   for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
@@ -89,9 +77,7 @@ Result<Imported> mergeMeshes(const aiScene& scene) {
   }
   if (vertexTotal > std::numeric_limits<std::uint32_t>::max())
     return makeError(ErrorKind::Unsupported, "more than 2^32 - 1 vertices");
-  Imported imported;
-  imported.fileHasNormals = anyNormals;
-  mesh::TriangleMesh& merged = imported.mesh;
+  mesh::TriangleMesh merged;
   merged.positions.reserve(vertexTotal);
   for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
     const aiMesh* part = scene.mMeshes[m];
@@ -106,7 +92,8 @@ Result<Imported> mergeMeshes(const aiScene& scene) {
       }
       if (anyColours) {
         const aiColor4D c = part->HasVertexColors(0) ? part->mColors[0][i] : aiColor4D(1.0f, 1.0f, 1.0f, 1.0f);
-        merged.colours.emplace_back(unitColour(c.r), unitColour(c.g), unitColour(c.b), unitColour(c.a));
+        merged.colours.emplace_back(detail::unitColour(c.r), detail::unitColour(c.g), detail::unitColour(c.b),
+                                     detail::unitColour(c.a));
       }
       if (anyUvs) {
         const aiVector3D t = part->HasTextureCoords(0) ? part->mTextureCoords[0][i] : aiVector3D(0.0f);
@@ -119,7 +106,7 @@ Result<Imported> mergeMeshes(const aiScene& scene) {
       for (int k = 0; k < 3; ++k) merged.indices.push_back(base + face.mIndices[k]);
     }
   }
-  return imported;
+  return merged;
 }
 
 // Indices are checked before triangulation: Assimp's PLY reader passes any index through,
@@ -144,7 +131,7 @@ Status checkFaceIndices(const aiScene& scene) {
   return {};
 }
 
-Result<Imported> importWithAssimp(const std::string& bytes, MeshFormat format) {
+Result<mesh::TriangleMesh> importWithAssimp(const std::string& bytes, MeshFormat format) {
   try {
     Assimp::Importer importer;
     importer.SetIOHandler(new NoFileSystem);  // the importer owns it
@@ -152,51 +139,51 @@ Result<Imported> importWithAssimp(const std::string& bytes, MeshFormat format) {
     // triangulation uses them. No aiProcess_JoinIdenticalVertices: it merges positions up
     // to an epsilon and treats NaN as equal to anything (see vertex_merge.hpp instead).
     const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, format == MeshFormat::Obj ? "obj" : "ply");
-    if (!scene) return makeError(ErrorKind::InvalidData, "Assimp cannot read it: " + detail::oneLine(importer.GetErrorString()));
+    if (!scene) return makeError(ErrorKind::InvalidData, "Assimp cannot read it: " + oneLine(importer.GetErrorString()));
     if (Status indices = checkFaceIndices(*scene); !indices) return indices.error();
     scene = importer.ApplyPostProcessing(aiProcess_Triangulate);
-    if (!scene) return makeError(ErrorKind::InvalidData, "Assimp cannot triangulate it: " + detail::oneLine(importer.GetErrorString()));
+    if (!scene) return makeError(ErrorKind::InvalidData, "Assimp cannot triangulate it: " + oneLine(importer.GetErrorString()));
     return mergeMeshes(*scene);
   } catch (const std::bad_alloc&) {
     return makeError(ErrorKind::OutOfMemory, "not enough memory to import it");
   } catch (const std::exception& exception) {
-    return makeError(ErrorKind::InvalidData, "Assimp failed: " + detail::oneLine(exception.what()));
+    return makeError(ErrorKind::InvalidData, "Assimp failed: " + oneLine(exception.what()));
   } catch (...) {
     return makeError(ErrorKind::InvalidData, "Assimp failed with an unknown exception");
   }
 }
 
 // The file's normals where usable (normalised unless already unit), computed ones elsewhere.
-void resolveNormals(mesh::TriangleMesh& mesh, bool fileHasNormals) {
-  std::vector<glm::vec3> computed = mesh::computeVertexNormals(mesh.positions, mesh.indices);
-  if (!fileHasNormals) {
-    mesh.normals = std::move(computed);
+// The mesh has normals exactly when the file had some (mergeMeshes, merging and welding keep
+// that).
+void resolveNormals(mesh::TriangleMesh& mesh) {
+  if (!mesh.hasNormals()) {
+    mesh.normals = mesh::computeVertexNormals(mesh.positions, mesh.indices);
     return;
   }
+  std::vector<glm::vec3> computed;  // only once a file normal is unusable
   for (std::size_t i = 0; i < mesh.normals.size(); ++i) {
     glm::vec3& normal = mesh.normals[i];
     const float length = glm::length(normal);
-    if (!(length > 0.0f) || !std::isfinite(length))
+    if (!(length > 0.0f) || !std::isfinite(length)) {
+      if (computed.empty()) computed = mesh::computeVertexNormals(mesh.positions, mesh.indices);
       normal = computed[i];
-    else if (std::fabs(length - 1.0f) > 1e-5f)  // leave unit normals bit for bit as read
+    } else if (std::fabs(length - 1.0f) > 1e-5f) {  // leave unit normals bit for bit as read
       normal /= length;
+    }
   }
 }
 
 Result<mesh::TriangleMesh> readMeshUnguarded(const std::filesystem::path& file, const MeshReadOptions& options) {
   const std::string name = file.string();
   const auto named = [&](const Error& error) { return makeError(error.kind, name + ": " + error.message); };
-  const std::string extension = lowerExtension(file);
-  MeshFormat format;
-  if (extension == ".obj") format = MeshFormat::Obj;
-  else if (extension == ".ply") format = MeshFormat::Ply;
-  else
-    return named(makeError(ErrorKind::Unsupported, "unsupported mesh format '" + extension + "' (expected .obj or .ply)"));
+  const Result<MeshFormat> format = detail::meshFormatOf(file);
+  if (!format) return named(format.error());
 
   Result<std::string> bytes = readWholeFile(file);
   if (!bytes) return named(bytes.error());
   if (bytes->empty()) return named(makeError(ErrorKind::InvalidData, "the file is empty"));
-  if (format == MeshFormat::Ply) {
+  if (*format == MeshFormat::Ply) {
     if (Status structure = detail::checkPlyStructure(*bytes); !structure) return named(structure.error());
   } else {
     Result<std::string> normalized = detail::normalizeObj(*bytes);
@@ -204,9 +191,9 @@ Result<mesh::TriangleMesh> readMeshUnguarded(const std::filesystem::path& file, 
     *bytes = std::move(*normalized);
   }
 
-  Result<Imported> imported = importWithAssimp(*bytes, format);
+  Result<mesh::TriangleMesh> imported = importWithAssimp(*bytes, *format);
   if (!imported) return named(imported.error());
-  mesh::TriangleMesh& mesh = imported->mesh;
+  mesh::TriangleMesh& mesh = *imported;
   if (mesh.triangleCount() == 0)
     return named(makeError(ErrorKind::InvalidData, "no triangles (nothing, or only points and lines)"));
   if (Status valid = mesh::validateMesh(mesh, name); !valid) return valid.error();  // NaN positions
@@ -225,8 +212,9 @@ Result<mesh::TriangleMesh> readMeshUnguarded(const std::filesystem::path& file, 
     if (mesh.triangleCount() == 0)
       return named(makeError(ErrorKind::InvalidData, "every triangle is degenerate after welding"));
   }
-  resolveNormals(mesh, imported->fileHasNormals);
-  if (Status valid = mesh::validateMesh(mesh, name); !valid) return valid.error();
+  resolveNormals(mesh);
+  // Merging, baking, welding and normals keep what the check above established.
+  assert(mesh::validateMesh(mesh, name).ok());
   return std::move(mesh);
 }
 
@@ -239,7 +227,7 @@ Result<mesh::TriangleMesh> readMesh(const std::filesystem::path& file, const Mes
   } catch (const std::bad_alloc&) {
     return makeError(ErrorKind::OutOfMemory, file.string() + ": not enough memory to read the mesh");
   } catch (const std::exception& exception) {
-    return makeError(ErrorKind::InvalidData, file.string() + ": " + detail::oneLine(exception.what()));
+    return makeError(ErrorKind::InvalidData, file.string() + ": " + oneLine(exception.what()));
   }
 }
 

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <chrono>
@@ -23,6 +22,7 @@
 #include <vector>
 
 #include "float_text.hpp"
+#include "mesh_format.hpp"
 
 namespace polder::mesh_io {
 namespace {
@@ -189,14 +189,13 @@ Status checkWritable(const TriangleMesh& mesh, const std::string& name) {
 
 Status writeMeshUnguarded(const std::filesystem::path& file, const TriangleMesh& mesh, const MeshWriteOptions& options) {
   const std::string name = file.string();
-  std::string extension = file.extension().string();
-  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (extension != ".obj" && extension != ".ply")
-    return makeError(ErrorKind::Unsupported, name + ": unsupported mesh format '" + extension + "' (expected .obj or .ply)");
+  const Result<detail::MeshFormat> format = detail::meshFormatOf(file);
+  if (!format) return makeError(format.error().kind, name + ": " + format.error().message);
   if (Status writable = checkWritable(mesh, name); !writable) return writable;
-  if (extension == ".ply" && mesh.vertexCount() > std::uint64_t(std::numeric_limits<std::int32_t>::max()))
+  const bool ply = *format == detail::MeshFormat::Ply;
+  if (ply && mesh.vertexCount() > std::uint64_t(std::numeric_limits<std::int32_t>::max()))
     return makeError(ErrorKind::Unsupported, name + ": more vertices than PLY int indices can address");
-  const std::string bytes = extension == ".obj" ? objText(mesh) : plyText(mesh, options.binary);
+  const std::string bytes = ply ? plyText(mesh, options.binary) : objText(mesh);
   if (Status written = writeReplacing(file, bytes); !written)
     return makeError(written.error().kind, name + ": " + written.error().message);
   return {};

@@ -9,8 +9,6 @@
 #include <string_view>
 #include <vector>
 
-#include <polder/one_line.hpp>
-
 namespace polder::mesh_io::detail {
 
 inline bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
@@ -46,8 +44,6 @@ inline std::optional<std::int64_t> parseInteger(std::string_view token) {
   if (token.empty() || error != std::errc() || end != token.data() + token.size()) return std::nullopt;
   return value;
 }
-
-using polder::oneLine;
 
 // Quotes a token from a file for an error message, cut short and with control bytes escaped.
 inline std::string quoted(std::string_view token) {

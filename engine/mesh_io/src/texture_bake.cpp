@@ -10,7 +10,7 @@
 #include <string>
 #include <system_error>
 
-#include "text_scan.hpp"
+#include <polder/one_line.hpp>
 
 namespace polder::mesh_io::detail {
 namespace {
@@ -28,14 +28,13 @@ double texelPosition(double coordinate, int size) {
   return std::clamp(coordinate * size - 0.5, 0.0, double(size - 1));
 }
 
-float unit(float value) { return std::isfinite(value) ? std::clamp(value, 0.0f, 1.0f) : 0.0f; }
-
 }  // namespace
 
 Result<std::vector<glm::vec4>> sampleTexture(const std::filesystem::path& image, const std::vector<glm::vec2>& uvs) {
   std::error_code code;
-  if (!std::filesystem::is_regular_file(image, code))
-    return imageError(image, ErrorKind::Io, std::filesystem::exists(image, code) ? "not a regular file" : "the file does not exist");
+  const auto status = std::filesystem::status(image, code);
+  if (!std::filesystem::is_regular_file(status))
+    return imageError(image, ErrorKind::Io, std::filesystem::exists(status) ? "not a regular file" : "the file does not exist");
   std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::open(image.string());
   if (!input) return imageError(image, ErrorKind::InvalidData, "cannot read the image: " + oneLine(OIIO::geterror()));
   const OIIO::ImageSpec spec = input->spec();
@@ -72,7 +71,7 @@ Result<std::vector<glm::vec4>> sampleTexture(const std::filesystem::path& image,
     const glm::vec4 top = glm::mix(texel(x0, y0), texel(x1, y0), fx);
     const glm::vec4 bottom = glm::mix(texel(x0, y1), texel(x1, y1), fx);
     const glm::vec4 colour = glm::mix(top, bottom, fy);
-    colours[i] = glm::vec4(unit(colour.r), unit(colour.g), unit(colour.b), unit(colour.a));
+    colours[i] = glm::vec4(unitColour(colour.r), unitColour(colour.g), unitColour(colour.b), unitColour(colour.a));
   }
   return colours;
 }

@@ -1,18 +1,18 @@
 // Embree point queries (Embree 3 API: rtcPointQuery with a per-query callback). Like
-// query_scene.cpp, the only other file that calls Embree, this one moves to Embree 4 as a
-// whole.
+// query_scene.cpp and embree_device.cpp, the other files that call Embree, this one moves
+// to Embree 4 as a whole.
 #include "closest_point_scene.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
-#include <mutex>
-#include <string>
 #include <utility>
 #include <vector>
 
 #include <embree3/rtcore.h>
+
+#include "embree_device.hpp"
 
 namespace polder::query::detail {
 
@@ -26,54 +26,21 @@ using TriangleCorners = std::array<glm::dvec3, 3>;
 // closer in double precision.
 constexpr double kRadiusSlack = 8.0 * double(std::numeric_limits<float>::epsilon());
 
-ErrorKind errorKindOf(RTCError code) {
-  switch (code) {
-    case RTC_ERROR_OUT_OF_MEMORY: return ErrorKind::OutOfMemory;
-    case RTC_ERROR_UNSUPPORTED_CPU: return ErrorKind::Unsupported;
-    default: return ErrorKind::Environment;
-  }
-}
-
-// The first error the device reported, owned per scene (the callback may run on Embree's
-// build threads).
-struct DeviceErrors {
-  std::mutex mutex;
-  std::optional<Error> first;
-};
-
-void onDeviceError(void* user, RTCError code, const char* message) {
-  auto* errors = static_cast<DeviceErrors*>(user);
-  std::lock_guard lock(errors->mutex);
-  if (errors->first) return;  // later errors follow from the first
-  std::string text = "Embree (closest-point scene): error " + std::to_string(int(code));
-  if (message && *message) text += std::string(": ") + message;
-  errors->first = makeError(errorKindOf(code), std::move(text));
-}
-
 }  // namespace
 
 struct ClosestPointScene::Impl {
-  DeviceErrors errors;  // first: the device's callback points at it
+  DeviceMonitor monitor;  // first: the device's callbacks point at it
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
-  std::vector<glm::vec3> positions;    // one spare at the end: Embree reads vertices 16 bytes at a time
-  std::vector<std::uint32_t> indices;  // shared with Embree
   std::vector<TriangleCorners> corners;  // per triangle, in double: the callback reads only these
-  std::size_t vertexCount = 0;
   double largestCoordinate = 0.0;
 
   Impl() = default;
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
   ~Impl() {
-    if (scene) rtcReleaseScene(scene);  // first: it reads the buffers until released
+    if (scene) rtcReleaseScene(scene);
     if (device) rtcReleaseDevice(device);
-  }
-
-  Status status() {
-    std::lock_guard lock(errors.mutex);
-    if (errors.first) return *std::exchange(errors.first, std::nullopt);
-    return {};
   }
 };
 
@@ -118,44 +85,40 @@ Result<std::unique_ptr<ClosestPointScene>> ClosestPointScene::create(std::span<c
                                                                      std::span<const std::uint32_t> indices,
                                                                      int buildThreads) {
   auto impl = std::make_unique<Impl>();
-  impl->vertexCount = positions.size();
-  impl->positions.reserve(positions.size() + 1);
-  impl->positions.assign(positions.begin(), positions.end());
-  impl->positions.emplace_back(0.0f);
-  impl->indices.assign(indices.begin(), indices.end());
-  impl->corners.resize(impl->indices.size() / 3);
-  for (std::size_t t = 0; t < impl->corners.size(); ++t) {
-    for (int k = 0; k < 3; ++k) impl->corners[t][std::size_t(k)] = glm::dvec3(positions[impl->indices[3 * t + std::size_t(k)]]);
+  const std::size_t triangleCount = indices.size() / 3;
+  impl->corners.resize(triangleCount);
+  for (std::size_t t = 0; t < triangleCount; ++t) {
+    for (int k = 0; k < 3; ++k) impl->corners[t][std::size_t(k)] = glm::dvec3(positions[indices[3 * t + std::size_t(k)]]);
   }
   for (const glm::vec3& p : positions) {
     impl->largestCoordinate = std::max({impl->largestCoordinate, double(std::abs(p.x)), double(std::abs(p.y)),
                                         double(std::abs(p.z))});
   }
 
-  const std::string config = buildThreads > 0 ? "threads=" + std::to_string(buildThreads) : "";
-  impl->device = rtcNewDevice(config.c_str());
-  if (!impl->device) {
-    return makeError(ErrorKind::Environment, "Embree: cannot create a device (error " +
-                                                 std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
-  }
-  rtcSetDeviceErrorFunction(impl->device, onDeviceError, &impl->errors);
+  auto device = newDevice(buildThreads, impl->monitor);
+  if (!device) return device.error();
+  impl->device = *device;
   impl->scene = rtcNewScene(impl->device);
-  if (!impl->scene) return impl->status().error();
+  if (!impl->scene) return deviceStatus(impl->device, impl->monitor).error();
 
-  const std::size_t triangleCount = impl->indices.size() / 3;
   if (triangleCount > 0) {
     RTCGeometry geometry = rtcNewGeometry(impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    if (!geometry) return impl->status().error();
-    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, impl->positions.data(), 0,
-                               sizeof(glm::vec3), impl->vertexCount);
-    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, impl->indices.data(), 0,
-                               3 * sizeof(std::uint32_t), triangleCount);
+    if (!geometry) return deviceStatus(impl->device, impl->monitor).error();
+    // Buffers Embree allocates (and pads for its vector loads) and owns: copies of the mesh.
+    if (auto* vertices = static_cast<glm::vec3*>(rtcSetNewGeometryBuffer(
+            geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(glm::vec3), positions.size()))) {
+      std::copy(positions.begin(), positions.end(), vertices);
+    }
+    if (auto* triangles = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+            geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), triangleCount))) {
+      std::copy(indices.begin(), indices.begin() + std::ptrdiff_t(3 * triangleCount), triangles);
+    }
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(impl->scene, geometry);
     rtcReleaseGeometry(geometry);
   }
   rtcCommitScene(impl->scene);
-  if (Status status = impl->status(); !status) return status.error();
+  if (Status status = deviceStatus(impl->device, impl->monitor); !status) return status.error();
   return std::unique_ptr<ClosestPointScene>(new ClosestPointScene(std::move(impl)));
 }
 

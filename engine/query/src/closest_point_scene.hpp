@@ -28,7 +28,7 @@ class ClosestPointScene {
  public:
   // Copies the mesh. `indices` holds three per triangle, all below positions.size(), and
   // positions are finite (the caller validated the mesh). `buildThreads` 0 = Embree's
-  // default. Fails with Environment or OutOfMemory where Embree does.
+  // default. Fails with Embree's error (embree_device.hpp), mostly Environment or OutOfMemory.
   static Result<std::unique_ptr<ClosestPointScene>> create(std::span<const glm::vec3> positions,
                                                            std::span<const std::uint32_t> indices, int buildThreads);
 

@@ -1,21 +1,20 @@
 // The Embree calls for ray queries live in this file (Embree 3 API: RTCIntersectContext,
-// rtcIntersect1/16, rtcOccluded1), the point queries in closest_point_scene.cpp; a move to
-// Embree 4 touches only these two.
+// rtcIntersect1/16, rtcOccluded1), the point queries in closest_point_scene.cpp, the device
+// in embree_device.cpp; a move to Embree 4 touches only these three.
 #include <polder/query/query_scene.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <embree3/rtcore.h>
 
+#include "embree_device.hpp"
 #include "grid_surface.hpp"
 #include "grid_triangulation.hpp"
 #include "ray_triangle.hpp"
@@ -36,61 +35,6 @@ constexpr unsigned kHoleGeometryId = 1;
 constexpr double kMeshEdgeTolerance = 1e-6;
 // Line-of-sight ends are pulled in by this many float ulps of the scene's coordinates.
 constexpr double kSegmentEndUlps = 4.0;
-
-ErrorKind errorKindOf(RTCError code) {
-  switch (code) {
-    case RTC_ERROR_OUT_OF_MEMORY: return ErrorKind::OutOfMemory;
-    case RTC_ERROR_INVALID_ARGUMENT: return ErrorKind::InvalidArgument;
-    case RTC_ERROR_UNSUPPORTED_CPU: return ErrorKind::Unsupported;
-    default: return ErrorKind::Environment;
-  }
-}
-
-const char* errorName(RTCError code) {
-  switch (code) {
-    case RTC_ERROR_NONE: return "no error";
-    case RTC_ERROR_UNKNOWN: return "unknown error";
-    case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
-    case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
-    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
-    case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
-    case RTC_ERROR_CANCELLED: return "cancelled";
-  }
-  return "unrecognised error";
-}
-
-// What the device's callbacks report, owned per scene (never process-global). The
-// callbacks may run on Embree's build threads, hence the mutex and the atomic.
-struct DeviceMonitor {
-  std::mutex mutex;
-  std::optional<Error> firstError;
-  std::atomic<std::int64_t> bytes{0};
-  std::int64_t limitBytes = 0;  // 0 = none
-
-  std::optional<Error> takeError() {
-    std::lock_guard lock(mutex);
-    return std::exchange(firstError, std::nullopt);
-  }
-};
-
-void onDeviceError(void* user, RTCError code, const char* message) {
-  auto* monitor = static_cast<DeviceMonitor*>(user);
-  std::lock_guard lock(monitor->mutex);
-  if (monitor->firstError) return;  // the first error is the cause, later ones follow from it
-  std::string text = std::string("Embree: ") + errorName(code);
-  if (message && *message) text += std::string(": ") + message;
-  monitor->firstError = makeError(errorKindOf(code), std::move(text));
-}
-
-bool onDeviceMemory(void* user, ssize_t bytes, bool /*post*/) {
-  auto* monitor = static_cast<DeviceMonitor*>(user);
-  if (bytes > 0 && monitor->limitBytes > 0 &&
-      monitor->bytes.load(std::memory_order_relaxed) + std::int64_t(bytes) > monitor->limitBytes) {
-    return false;  // Embree cancels the build with RTC_ERROR_OUT_OF_MEMORY
-  }
-  monitor->bytes.fetch_add(std::int64_t(bytes), std::memory_order_relaxed);
-  return true;
-}
 
 // One grid primitive: a block of cells of the heightfield.
 struct GridBlock {
@@ -144,7 +88,7 @@ glm::dvec3 facing(const glm::dvec3& normal, const glm::dvec3& direction) {
 }  // namespace
 
 struct QueryScene::Impl {
-  DeviceMonitor monitor;  // first: the device's callbacks point at it
+  detail::DeviceMonitor monitor;  // first: the device's callbacks point at it
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   QueryOptions options;
@@ -168,16 +112,11 @@ struct QueryScene::Impl {
   }
 
   Status createDevice() {
-    const std::string config = options.buildThreads > 0 ? "threads=" + std::to_string(options.buildThreads) : "";
-    device = rtcNewDevice(config.c_str());
-    if (!device) {
-      return makeError(ErrorKind::Environment,
-                       std::string("Embree: cannot create a device: ") + errorName(rtcGetDeviceError(nullptr)));
-    }
     monitor.limitBytes = std::int64_t(
         std::min<std::size_t>(options.memoryLimitBytes, std::size_t(std::numeric_limits<std::int64_t>::max())));
-    rtcSetDeviceErrorFunction(device, onDeviceError, &monitor);
-    rtcSetDeviceMemoryMonitorFunction(device, onDeviceMemory, &monitor);
+    auto created = detail::newDevice(options.buildThreads, monitor);
+    if (!created) return created.error();
+    device = *created;
     scene = rtcNewScene(device);
     if (!scene) return deviceStatus();
     rtcSetSceneFlags(scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
@@ -185,12 +124,7 @@ struct QueryScene::Impl {
   }
 
   // The first error the device reported since the last call, if any.
-  Status deviceStatus() {
-    if (auto error = monitor.takeError()) return *error;
-    const RTCError code = rtcGetDeviceError(device);
-    if (code != RTC_ERROR_NONE) return makeError(errorKindOf(code), std::string("Embree: ") + errorName(code));
-    return {};
-  }
+  Status deviceStatus() { return detail::deviceStatus(device, monitor); }
 
   void setResolution() {
     double largest = 1.0;

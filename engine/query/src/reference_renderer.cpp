@@ -4,15 +4,13 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <functional>
 #include <optional>
-#include <system_error>
-#include <thread>
 #include <vector>
 
 #include <polder/terrain/normals.hpp>
 
 #include "grid_triangulation.hpp"
+#include "worker_threads.hpp"
 
 namespace polder::query {
 
@@ -76,21 +74,9 @@ RgbaImage renderReference(const QueryScene& scene, const terrain::Heightfield& f
   RgbaImage image(std::max(camera.widthPx, 0), std::max(camera.heightPx, 0));
   if (image.width == 0 || image.height == 0 || field.width < 2 || field.height < 2) return image;
 
-  int count = threads > 0 ? threads : int(std::thread::hardware_concurrency());
-  count = std::clamp(count, 1, image.height);
   std::atomic<int> nextRow{0};
-  std::vector<std::thread> workers;
-  workers.reserve(std::size_t(count - 1));
-  for (int i = 1; i < count; ++i) {
-    try {
-      workers.emplace_back(renderRows, std::cref(scene), std::cref(field), std::cref(camera), std::cref(style),
-                           std::ref(nextRow), std::ref(image));
-    } catch (const std::system_error&) {
-      break;  // fewer threads: the rows left are taken by the ones that started and by this one
-    }
-  }
-  renderRows(scene, field, camera, style, nextRow, image);
-  for (std::thread& worker : workers) worker.join();
+  detail::runOnThreads(threads, std::size_t(image.height),
+                       [&] { renderRows(scene, field, camera, style, nextRow, image); });
   return image;
 }
 

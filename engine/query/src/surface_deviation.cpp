@@ -3,16 +3,15 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <polder/mix_bits.hpp>
 
 #include "closest_point_scene.hpp"
+#include "worker_threads.hpp"
 
 namespace polder::query {
 
@@ -129,12 +128,10 @@ glm::dvec3 colourAt(const mesh::TriangleMesh& mesh, const Sample& sample) {
 
 // Diagonal of the bounding box of the vertices the triangles use.
 double usedDiagonal(const mesh::TriangleMesh& mesh, const std::vector<std::uint32_t>& usedVertices) {
-  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  for (std::uint32_t v : usedVertices) {
-    lo = glm::min(lo, glm::dvec3(mesh.positions[v]));
-    hi = glm::max(hi, glm::dvec3(mesh.positions[v]));
-  }
-  return usedVertices.empty() ? 0.0 : glm::length(hi - lo);
+  std::vector<glm::vec3> used;
+  used.reserve(usedVertices.size());
+  for (std::uint32_t v : usedVertices) used.push_back(mesh.positions[v]);
+  return mesh::boundingBoxDiagonal(used);
 }
 
 // What one chunk of samples adds up to.
@@ -171,8 +168,6 @@ Result<SurfaceDeviation> measureSurfaceDeviation(const mesh::TriangleMesh& origi
                      "measureSurfaceDeviation: the original mesh's vertices all coincide (no extent to relate to)");
   }
 
-  const int threads =
-      options.threads > 0 ? options.threads : std::max(1, int(std::thread::hardware_concurrency()));
   std::unique_ptr<detail::ClosestPointScene> scenes[2];
   for (int s = 0; s < 2; ++s) {
     auto scene = detail::ClosestPointScene::create(surfaces[s].mesh->positions, surfaces[s].mesh->indices,
@@ -225,11 +220,7 @@ Result<SurfaceDeviation> measureSurfaceDeviation(const mesh::TriangleMesh& origi
       chunks[chunk] = sums;
     }
   };
-  const int workerCount = int(std::min<std::size_t>(std::size_t(threads), std::max<std::size_t>(chunkCount, 1)));
-  std::vector<std::thread> workers;
-  for (int t = 1; t < workerCount; ++t) workers.emplace_back(work);
-  work();
-  for (std::thread& worker : workers) worker.join();
+  detail::runOnThreads(options.threads, chunkCount, work);
 
   double maxDistanceSquared = 0.0, distanceSquared = 0.0, colourSquared = 0.0;
   for (const ChunkSums& sums : chunks) {

@@ -107,6 +107,7 @@ Result<int> Scene::addNode(SceneNode node) {
     state.allocation.assign(mesh.regionCount(), 0);
     state.regionDistance.assign(mesh.regionCount(), 0.0);
     m_demands.reserve(m_demands.capacity() + mesh.regionCount());
+    m_demandRegion.reserve(m_demandRegion.capacity() + mesh.regionCount());
     m_drawItems.reserve(m_drawItems.capacity() + mesh.regionCount());
   }
   m_nodes.push_back(std::move(state));

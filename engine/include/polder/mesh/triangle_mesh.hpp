@@ -37,6 +37,13 @@ Status validateMesh(const TriangleMesh& mesh, const std::string& what);
 std::vector<glm::vec3> computeVertexNormals(const std::vector<glm::vec3>& positions,
                                             const std::vector<std::uint32_t>& indices);
 
+// The axis-aligned bounding box of the positions, in double (both corners 0 when empty).
+struct PositionBounds {
+  glm::dvec3 lo{0.0}, hi{0.0};
+  double diagonal() const { return glm::length(hi - lo); }
+};
+PositionBounds boundsOf(const std::vector<glm::vec3>& positions);
+
 // Diagonal of the axis-aligned bounding box of the positions (0 for an empty mesh).
 double boundingBoxDiagonal(const std::vector<glm::vec3>& positions);
 

@@ -10,8 +10,10 @@
 // into triangles {(x,y), (x+1,y), (x,y+1)} and {(x+1,y+1), (x,y+1), (x+1,y)}.
 #pragma once
 
+#include <algorithm>
 #include <cassert>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -40,6 +42,12 @@ struct Heightfield {
   glm::dvec3 worldPosition(int x, int y) const { return {x * spacingX, y * spacingY, double(at(x, y))}; }
   double extentX() const { return (width - 1) * spacingX; }
   double extentY() const { return (height - 1) * spacingY; }
+  // The lowest and highest sample (0, 0 for an empty field).
+  std::pair<float, float> heightRange() const {
+    if (heights.empty()) return {0.0f, 0.0f};
+    const auto [low, high] = std::minmax_element(heights.begin(), heights.end());
+    return {*low, *high};
+  }
 };
 
 }  // namespace polder::terrain

@@ -65,6 +65,8 @@ class RegionSequence {
   std::span<const ForeignCorner> foreignCorners() const { return m_foreignCorners; }
   // Vertices other regions' triangles use.
   std::span<const std::uint32_t> borderVertices() const { return m_borderVertices; }
+  // The regions whose border triangles read this region's table, ascending.
+  std::span<const std::uint32_t> readers() const { return m_readers; }
   // The corner and border-table changes of step `step` (0 is the first step taken from the
   // original, i.e. the change between levels levelCount() and levelCount() - 1).
   std::span<const CornerChange> cornerChanges(std::size_t step) const {
@@ -85,6 +87,7 @@ class RegionSequence {
   std::vector<std::uint32_t> m_fullIndices;
   std::vector<ForeignCorner> m_foreignCorners;
   std::vector<std::uint32_t> m_borderVertices;
+  std::vector<std::uint32_t> m_readers;
   std::vector<std::uint32_t> m_cornerChangeBegin{0};
   std::vector<CornerChange> m_cornerChanges;
   std::vector<std::uint32_t> m_borderChangeBegin{0};

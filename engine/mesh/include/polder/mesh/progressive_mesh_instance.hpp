@@ -52,7 +52,6 @@ class ProgressiveMeshInstance {
   };
   const ProgressiveMesh* m_mesh;
   std::vector<RegionState> m_regions;
-  std::vector<std::vector<std::uint32_t>> m_readers;  // per region: regions reading its table
   std::uint64_t m_writes = 0;
 };
 

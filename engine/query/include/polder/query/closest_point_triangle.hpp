@@ -43,7 +43,8 @@ inline TrianglePoint closestOnDegenerateTriangle(const glm::dvec3& p, const glm:
   double bestDistance = glm::dot(p - best.point, p - best.point);
   for (int i = 1; i < 3; ++i) {
     const glm::dvec3 d = p - candidates[i].point;
-    if (glm::dot(d, d) < bestDistance) best = candidates[i], bestDistance = glm::dot(d, d);
+    const double distance = glm::dot(d, d);
+    if (distance < bestDistance) best = candidates[i], bestDistance = distance;
   }
   return best;
 }

@@ -48,7 +48,7 @@ struct SurfaceDeviation {
 
 // Fails with InvalidArgument where either mesh has no triangles or the original's used
 // vertices all coincide (no diagonal to relate to), with validateMesh's error for a
-// malformed mesh, with Environment (or OutOfMemory) where Embree fails.
+// malformed mesh, with Embree's error (mostly Environment or OutOfMemory) where Embree fails.
 Result<SurfaceDeviation> measureSurfaceDeviation(const mesh::TriangleMesh& original,
                                                  const mesh::TriangleMesh& simplified,
                                                  const SurfaceDeviationOptions& options = {});

@@ -1,0 +1,53 @@
+// Triangle geometry the builders share, on their normalized positions and three corners a
+// triangle (builder_setup.hpp): a triangle's cross product, its plane as a quadric on its
+// corners, and the plane along a boundary edge that holds the outline.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "quadric.hpp"
+
+namespace polder::mesh {
+
+// (b - a) x (c - a) for the triangle with corners a, b, c: its normal, twice its area long.
+inline glm::dvec3 triangleCross(const std::vector<glm::dvec3>& position, const std::uint32_t* corner) {
+  const glm::dvec3& a = position[corner[0]];
+  return glm::cross(position[corner[1]] - a, position[corner[2]] - a);
+}
+
+// Adds the triangle's plane, weighted by its area, to its corners' quadrics; returns its
+// unit normal (zero for a flat triangle, which adds nothing).
+inline glm::dvec3 addTriangleQuadric(const std::vector<glm::dvec3>& position, const std::uint32_t* corner,
+                                     std::vector<Quadric>& quadric) {
+  const glm::dvec3 cross = triangleCross(position, corner);
+  const double length = glm::length(cross);
+  if (length <= 0.0) return glm::dvec3(0.0);
+  const glm::dvec3 n = cross / length;
+  Quadric q;
+  q.addPlane(n, -glm::dot(n, position[corner[0]]), 0.5 * length);
+  for (int k = 0; k < 3; ++k) quadric[corner[k]] += q;
+  return n;
+}
+
+// Adds the plane through the boundary edge (a, b), perpendicular to its triangle's normal
+// `faceNormal` (any length), to both ends' quadrics with weight `boundaryWeight` times the
+// edge length squared. It keeps the outline; it does not count in Quadric::weight, so it
+// does not dilute the mean surface error.
+inline void addBoundaryEdgeQuadric(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& faceNormal,
+                                   double boundaryWeight, Quadric& atA, Quadric& atB) {
+  const glm::dvec3 edge = b - a;
+  const glm::dvec3 planeNormal = glm::cross(edge, faceNormal);
+  const double length = glm::length(planeNormal);
+  if (length <= 0.0) return;
+  const glm::dvec3 n = planeNormal / length;
+  Quadric q;
+  q.addPlane(n, -glm::dot(n, a), boundaryWeight * glm::dot(edge, edge));
+  q.weight = 0.0;
+  atA += q;
+  atB += q;
+}
+
+}  // namespace polder::mesh
