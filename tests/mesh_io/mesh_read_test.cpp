@@ -1,10 +1,13 @@
 // readMesh on generated OBJ and PLY files: every encoding and attribute, welding, baking.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
+#include <polder/image.hpp>
 #include <polder/mesh_io/mesh_file.hpp>
+#include <polder/terrain/image_writer.hpp>
 
 #include "mesh_test_files.hpp"
 #include "test_support.hpp"
@@ -272,6 +275,22 @@ TEST(ReadMesh, BakesTextureBeforeWelding) {
   ASSERT_EQ(welded.vertexCount(), 5u);
   EXPECT_EQ(welded.colours[0], glm::vec4(0.0f, 0.5f, 0.5f, 1.0f));  // blue and green averaged
   EXPECT_EQ(welded.uvs[0], glm::vec2(0.25f, 0.25f));                 // first occurrence wins
+}
+
+TEST(ReadMesh, BakesTranslucentTexelsWithTheirOwnColour) {
+  ScratchDir dir;
+  RgbaImage texel(1, 1);
+  const std::uint8_t halfRed[4] = {255, 0, 0, 128};
+  std::copy(halfRed, halfRed + 4, texel.at(0, 0));
+  ASSERT_TRUE(terrain::writeRgbaPng(dir.file("texel.png"), texel).ok());
+  const auto file = dir.file("one.obj");
+  test::writeFile(file, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5 0.5\nf 1/1 2/1 3/1\n");
+  MeshReadOptions options;
+  options.bakeTexture = dir.file("texel.png");
+  const mesh::TriangleMesh baked = readMeshOk(file, options);
+  // Straight alpha: the colour is the painted red, not red times alpha.
+  EXPECT_NEAR(baked.colours[0].r, 1.0f, 1e-6f);
+  EXPECT_NEAR(baked.colours[0].a, 128.0f / 255.0f, 1e-6f);
 }
 
 TEST(ReadMesh, BakeErrorsNameBothFiles) {

@@ -35,7 +35,9 @@ Result<std::vector<glm::vec4>> sampleTexture(const std::filesystem::path& image,
   const auto status = std::filesystem::status(image, code);
   if (!std::filesystem::is_regular_file(status))
     return imageError(image, ErrorKind::Io, std::filesystem::exists(status) ? "not a regular file" : "the file does not exist");
-  std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::open(image.string());
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);  // colours as painted, not premultiplied by alpha
+  std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::open(image.string(), &config);
   if (!input) return imageError(image, ErrorKind::InvalidData, "cannot read the image: " + oneLine(OIIO::geterror()));
   const OIIO::ImageSpec spec = input->spec();
   const int width = spec.width, height = spec.height, channels = spec.nchannels;
