@@ -2,39 +2,14 @@
 // budget; instances of one model take their own levels; transforms nest and animate.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <memory>
-#include <new>
 
+#include "allocation_counter.hpp"
 #include "mesh_test_shapes.hpp"
 #include "polder/mesh/collapse_builder.hpp"
 #include "polder/scene/scene.hpp"
 #include "polder/terrain/generator.hpp"
-
-// Counts heap allocations, to prove a steady frame allocates nothing.
-namespace {
-std::atomic<std::size_t> g_allocations{0};
-}
-// The replacements pair malloc with free; GCC cannot see that new and delete are both ours.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-// std::stable_sort's buffer comes from the nothrow form: it must be ours too, or a
-// sanitizer's allocator hands it to our delete.
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  ++g_allocations;
-  return std::malloc(size ? size : 1);
-}
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-#pragma GCC diagnostic pop
 
 namespace polder::scene {
 namespace {
@@ -266,13 +241,13 @@ TEST(Scene, SteadyFramesDoNotAllocateEvenWithObjectsMoving) {
       (void)scene.update(camera, 0.1 * warm);
       (void)scene.terrain()->frameMeshes();
     }
-    const std::size_t before = g_allocations.load();
+    const std::size_t before = test::allocationCount();
     for (int frame = 0; frame < 20; ++frame) {
       const SceneStats& stats = scene.update(camera, 8.0 + 0.1 * frame);
       ASSERT_GT(stats.visibleObjects, 0u);
       (void)scene.terrain()->frameMeshes();
     }
-    EXPECT_EQ(g_allocations.load() - before, 0u) << (mode == LodMode::TriangleBudget ? "budget mode" : "error mode");
+    EXPECT_EQ(test::allocationCount() - before, 0u) << (mode == LodMode::TriangleBudget ? "budget mode" : "error mode");
   }
 }
 

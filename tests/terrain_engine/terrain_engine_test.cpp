@@ -1,8 +1,5 @@
 #include <polder/terrain_engine.hpp>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -13,19 +10,8 @@
 #include <polder/terrain/generator.hpp>
 #include <polder/terrain/heightfield_crop.hpp>
 
+#include "allocation_counter.hpp"
 #include "test_support.hpp"
-
-// Counts heap allocations, to prove the steady-state frame allocates nothing.
-namespace {
-std::atomic<std::size_t> g_allocations{0};
-}
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace polder {
 namespace {
@@ -178,12 +164,12 @@ TEST(TerrainEngine, SteadyStateFramesDoNotAllocate) {
   camera.yawDeg = 20.0;
   camera.pitchDeg = -30.0;
   for (int warm = 0; warm < 3; ++warm) (void)(*engine)->update(camera), (void)(*engine)->frameMeshes();
-  const std::size_t before = g_allocations.load();
+  const std::size_t before = test::allocationCount();
   for (int frame = 0; frame < 20; ++frame) {
     (void)(*engine)->update(camera);
     (void)(*engine)->frameMeshes();  // the meshes a renderer would draw, too
   }
-  EXPECT_EQ(g_allocations.load() - before, 0u);
+  EXPECT_EQ(test::allocationCount() - before, 0u);
   EXPECT_GT((*engine)->update(camera).stats.cacheHits, 0u);
 }
 
