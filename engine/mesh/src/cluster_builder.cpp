@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "builder_setup.hpp"
+#include "locality_order.hpp"
 #include "quadric.hpp"
 #include "triangle_planes.hpp"
 
@@ -838,7 +839,10 @@ Result<SimplificationSteps> buildClusterSteps(const TriangleMesh& mesh, const Re
     return makeError(ErrorKind::InvalidArgument, "cluster builder: colourWeight must be finite and >= 0");
   if (!(options.featureAngleDegrees >= 0.0 && options.featureAngleDegrees <= 180.0))
     return makeError(ErrorKind::InvalidArgument, "cluster builder: featureAngleDegrees must lie in [0, 180]");
-  return ClusterBuilder(mesh, partition, options).run();
+  const LocalityOrdered ordered = inLocalityOrder(mesh, partition);
+  SimplificationSteps steps = ClusterBuilder(ordered.mesh, ordered.partition, options).run();
+  restoreOriginalIds(steps, ordered.originalOf);
+  return steps;
 }
 
 }  // namespace polder::mesh

@@ -2,7 +2,8 @@
 // grown by half-edge collapses: each step moves one vertex onto one of its neighbours, so
 // every level uses original vertices only. Collapses are taken cheapest first by the
 // quadric error metric (Garland & Heckbert 1997) of the removed vertex's planes at the
-// neighbour's position, plus an attribute term: the area-weighted squared difference of
+// neighbour's position (divided by the cluster's area to the power 0.8), plus an
+// attribute term: the area-weighted squared difference of
 // the removed cluster's normals, colours and UVs from the representative's (kept as
 // moments, so merged clusters cost O(1)). A collapse is refused when it would flip or
 // nearly flip a triangle, break the surface's manifold structure (link condition), move a
