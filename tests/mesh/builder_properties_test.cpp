@@ -1,10 +1,12 @@
 // What every builder's sequence must give, checked for `collapse` and `cluster` alike:
 // closed levels over original, active vertices; no step flips a triangle; a level is the
-// same whatever path led to it; regions at independent levels add no open edges.
+// same whatever path led to it; regions at independent levels add no open edges; the
+// input's vertex numbering and triangle order do not change the steps.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <functional>
+#include <numeric>
 #include <random>
 #include <string>
 
@@ -143,6 +145,42 @@ TEST_P(BuilderProperties, OpenBoundaryStaysOnTheOriginalOutline) {
   }
   // The surface never vanishes whole: the base keeps at least one triangle.
   EXPECT_GE(pm.region(0).trianglesAt(0), 1u);
+}
+
+TEST_P(BuilderProperties, StepsDoNotDependOnTheInputsNumbering) {
+  // The same surface with its vertices renumbered, its triangles reordered and their
+  // corners turned: the same steps, renamed.
+  const TriangleMesh sphere = test::bumpySphere(16, 20);
+  std::mt19937 random(5);
+  std::vector<std::uint32_t> newId(sphere.vertexCount());
+  std::iota(newId.begin(), newId.end(), 0u);
+  std::shuffle(newId.begin(), newId.end(), random);
+  TriangleMesh shuffled;
+  shuffled.positions.resize(sphere.vertexCount());
+  for (std::uint32_t v = 0; v < sphere.vertexCount(); ++v) shuffled.positions[newId[v]] = sphere.positions[v];
+  std::vector<std::uint32_t> triangleOrder(sphere.triangleCount());
+  std::iota(triangleOrder.begin(), triangleOrder.end(), 0u);
+  std::shuffle(triangleOrder.begin(), triangleOrder.end(), random);
+  for (std::uint32_t t : triangleOrder) {
+    const int turn = int(t % 3);
+    for (int k = 0; k < 3; ++k) shuffled.indices.push_back(newId[sphere.indices[3 * t + (k + turn) % 3]]);
+  }
+  const auto original = GetParam().build(sphere, singleRegion());
+  const auto renumbered = GetParam().build(shuffled, singleRegion());
+  ASSERT_TRUE(original.ok() && renumbered.ok());
+  ASSERT_GT(original->size(), 100u);
+  ASSERT_EQ(original->size(), renumbered->size());
+  for (std::size_t s = 0; s < original->size(); ++s) {
+    ASSERT_EQ(newId[original->representative[s]], renumbered->representative[s]) << "step " << s;
+    const auto a = original->removedBy(s), b = renumbered->removedBy(s);
+    ASSERT_EQ(a.size(), b.size()) << "step " << s;
+    std::vector<std::uint32_t> renamed;
+    for (std::uint32_t v : a) renamed.push_back(newId[v]);
+    std::vector<std::uint32_t> other(b.begin(), b.end());
+    std::sort(renamed.begin(), renamed.end());
+    std::sort(other.begin(), other.end());
+    ASSERT_EQ(renamed, other) << "step " << s;
+  }
 }
 
 void PrintTo(const Builder& builder, std::ostream* out) { *out << builder.name; }

@@ -1,13 +1,15 @@
 // The builders visit a vertex's neighbours over and over. Scanned and zippered meshes
 // number their vertices in no spatial order (on the Stanford bunny a sixth of the
-// triangles span over 10,000 ids), so each visit misses the cache in a dozen per-vertex
-// tables. Building on a copy whose vertices follow a Morton curve through the bounding
-// box, and whose triangles follow their first vertex, keeps neighbours a few entries
-// apart; the steps are then renamed back to the caller's vertex ids.
+// triangles span over 10,000 ids), so each visit misses the cache. Building on a copy
+// whose vertices follow a Morton curve through the bounding box, and whose triangles
+// follow their first vertex, keeps neighbours a few entries apart; the steps are then
+// renamed back to the caller's vertex ids.
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
+#include <tuple>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -52,6 +54,17 @@ inline LocalityOrdered inLocalityOrder(const TriangleMesh& mesh, const RegionPar
     order[v] = {code, v};
   }
   std::sort(order.begin(), order.end());
+  // Vertices closer than the code's resolution: by position, so the input's numbering
+  // decides only between coincident ones.
+  auto byPosition = [&](const auto& a, const auto& b) {
+    const glm::vec3 &p = mesh.positions[a.second], &q = mesh.positions[b.second];
+    return std::tie(p.x, p.y, p.z, a.second) < std::tie(q.x, q.y, q.z, b.second);
+  };
+  for (auto run = order.begin(); run != order.end();) {
+    const auto end = std::find_if(run, order.end(), [&](const auto& e) { return e.first != run->first; });
+    if (end - run > 1) std::sort(run, end, byPosition);
+    run = end;
+  }
 
   LocalityOrdered out;
   out.originalOf.resize(vertexCount);
@@ -72,19 +85,28 @@ inline LocalityOrdered inLocalityOrder(const TriangleMesh& mesh, const RegionPar
   out.partition.regionCount = partition.regionCount;
   permute(partition.vertexRegion, out.partition.vertexRegion);
 
-  // Triangles by their smallest renumbered corner (a counting sort keeps it linear).
+  // Triangles by their corners, each turned to start at its smallest (the winding stays):
+  // a counting sort on the first corner, then the few sharing it by the other two. With
+  // the Morton order this makes the build independent of how the input numbers its
+  // vertices and orders its triangles.
   const std::size_t triangleCount = mesh.triangleCount();
+  std::vector<std::array<std::uint32_t, 3>> turned(triangleCount);
   std::vector<std::uint32_t> start(std::size_t(vertexCount) + 1, 0);
-  auto firstCorner = [&](std::size_t t) {
-    return std::min({renamed[mesh.indices[3 * t]], renamed[mesh.indices[3 * t + 1]], renamed[mesh.indices[3 * t + 2]]});
-  };
-  for (std::size_t t = 0; t < triangleCount; ++t) ++start[firstCorner(t) + 1];
-  for (std::uint32_t v = 0; v < vertexCount; ++v) start[v + 1] += start[v];
-  out.mesh.indices.resize(mesh.indices.size());
   for (std::size_t t = 0; t < triangleCount; ++t) {
-    std::uint32_t* to = &out.mesh.indices[3 * std::size_t(start[firstCorner(t)]++)];
-    for (int k = 0; k < 3; ++k) to[k] = renamed[mesh.indices[3 * t + k]];
+    std::array<std::uint32_t, 3> c{renamed[mesh.indices[3 * t]], renamed[mesh.indices[3 * t + 1]],
+                                   renamed[mesh.indices[3 * t + 2]]};
+    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+    turned[t] = c;
+    ++start[c[0] + 1];
   }
+  for (std::uint32_t v = 0; v < vertexCount; ++v) start[v + 1] += start[v];
+  std::vector<std::array<std::uint32_t, 3>> sorted(triangleCount);
+  std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+  for (const auto& c : turned) sorted[next[c[0]]++] = c;
+  for (std::uint32_t v = 0; v < vertexCount; ++v) std::sort(sorted.begin() + start[v], sorted.begin() + start[v + 1]);
+  out.mesh.indices.resize(mesh.indices.size());
+  for (std::size_t t = 0; t < triangleCount; ++t)
+    for (int k = 0; k < 3; ++k) out.mesh.indices[3 * t + k] = sorted[t][k];
   return out;
 }
 
