@@ -431,7 +431,8 @@ class ClusterBuilder {
   // that may join r under the classification rules. m_mark[x] == m_stamp marks r and the
   // tree; m_parent holds each member's parent (an index into m_members, kNone for r).
   void growTree(std::uint32_t r, double tau) {
-    ++m_stamp;
+    nextStamps();
+    const std::uint32_t outside = m_stamp + 1;  // out of the cell or the region: seen once
     m_mark[r] = m_stamp;
     m_members.clear();
     m_parent.clear();
@@ -439,14 +440,16 @@ class ClusterBuilder {
     const double half = 0.5 * tau;
     const std::uint32_t region = m_partition.regionOf(r);
     auto visit = [&](std::uint32_t p, std::uint32_t parentIndex) {
-      for (std::uint32_t t : m_fan[p]) {
-        if (!m_triangleAlive[t]) continue;
+      for (std::uint32_t t : m_fan[p]) {  // live triangles only (gather)
         for (int k = 0; k < 3; ++k) {
           const std::uint32_t x = m_corner[3 * t + k];
-          if (m_mark[x] == m_stamp) continue;
+          if (m_mark[x] == m_stamp || m_mark[x] == outside) continue;
           const glm::dvec3 d = glm::abs(m_position[x] - centre);
-          if (d.x > half || d.y > half || d.z > half) continue;
-          if (m_partition.regionOf(x) != region || !keepsFeature(p, x)) continue;
+          if (d.x > half || d.y > half || d.z > half || m_partition.regionOf(x) != region) {
+            m_mark[x] = outside;
+            continue;
+          }
+          if (!keepsFeature(p, x)) continue;  // depends on the edge it is reached by
           m_mark[x] = m_stamp;
           m_members.push_back(x);
           m_parent.push_back(parentIndex);
@@ -457,6 +460,16 @@ class ClusterBuilder {
     };
     visit(r, kNone);
     for (std::uint32_t i = 0; i < m_members.size() && m_members.size() < kMaxClusterSize; ++i) visit(m_members[i], i);
+  }
+
+  // Two fresh mark values (the tree's and the outside's); marks are cleared before the
+  // counter would wrap.
+  void nextStamps() {
+    if (m_stamp >= std::numeric_limits<std::uint32_t>::max() - 2) {
+      std::fill(m_mark.begin(), m_mark.end(), 0u);
+      m_stamp = 0;
+    }
+    m_stamp += 2;
   }
 
   // Whether x, reached over the edge from p (r or a tree member), may join p's cluster
@@ -686,6 +699,13 @@ class ClusterBuilder {
         if (vanishes(t)) {
           m_triangleAlive[t] = 0;
           --m_liveTriangles;
+          // Out of its unmarked corner's fan too (the members' fans go, r's is compacted),
+          // so every fan holds live triangles only.
+          for (int k = 0; k < 3; ++k)
+            if (const std::uint32_t x = m_corner[3 * t + k]; m_mark[x] != m_stamp) {
+              std::vector<std::uint32_t>& fan = m_fan[x];
+              if (const auto at = std::find(fan.begin(), fan.end(), t); at != fan.end()) fan.erase(at);
+            }
           continue;
         }
         for (int k = 0; k < 3; ++k)
