@@ -814,7 +814,7 @@ class ClusterBuilder {
   std::vector<std::uint32_t> m_corner;
   std::vector<std::uint8_t> m_triangleAlive;
   std::uint32_t m_liveTriangles = 0;
-  std::vector<std::vector<std::uint32_t>> m_fan;  // may hold dead triangles until compacted
+  std::vector<std::vector<std::uint32_t>> m_fan;  // live triangles only (gather drops the dead)
   std::vector<Quadric> m_quadric;                 // per vertex: the planes of its cluster
   bool m_useColours = false;
   std::vector<glm::dvec3> m_colour;  // RGB times colourWeight
