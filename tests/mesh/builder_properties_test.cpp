@@ -148,16 +148,26 @@ TEST_P(BuilderProperties, OpenBoundaryStaysOnTheOriginalOutline) {
 }
 
 TEST_P(BuilderProperties, StepsDoNotDependOnTheInputsNumbering) {
-  // The same surface with its vertices renumbered, its triangles reordered and their
-  // corners turned: the same steps, renamed.
-  const TriangleMesh sphere = test::bumpySphere(16, 20);
+  // The same coloured surface cut into regions, with its vertices renumbered, its triangles
+  // reordered and their corners turned: the same steps, renamed, with the same errors.
+  TriangleMesh sphere = test::bumpySphere(16, 20);
+  for (const glm::vec3& p : sphere.positions)
+    sphere.colours.emplace_back(p.x > 0.3f ? 1.0f : 0.2f, 0.5f + 0.4f * p.z, 0.3f, 1.0f);
+  const RegionPartition partition = automaticPartition(sphere.positions, 4);
+  ASSERT_GE(partition.regionCount, 4u);
   std::mt19937 random(5);
   std::vector<std::uint32_t> newId(sphere.vertexCount());
   std::iota(newId.begin(), newId.end(), 0u);
   std::shuffle(newId.begin(), newId.end(), random);
   TriangleMesh shuffled;
   shuffled.positions.resize(sphere.vertexCount());
-  for (std::uint32_t v = 0; v < sphere.vertexCount(); ++v) shuffled.positions[newId[v]] = sphere.positions[v];
+  shuffled.colours.resize(sphere.vertexCount());
+  RegionPartition shuffledPartition{partition.regionCount, std::vector<std::uint32_t>(sphere.vertexCount())};
+  for (std::uint32_t v = 0; v < sphere.vertexCount(); ++v) {
+    shuffled.positions[newId[v]] = sphere.positions[v];
+    shuffled.colours[newId[v]] = sphere.colours[v];
+    shuffledPartition.vertexRegion[newId[v]] = partition.vertexRegion[v];
+  }
   std::vector<std::uint32_t> triangleOrder(sphere.triangleCount());
   std::iota(triangleOrder.begin(), triangleOrder.end(), 0u);
   std::shuffle(triangleOrder.begin(), triangleOrder.end(), random);
@@ -165,13 +175,14 @@ TEST_P(BuilderProperties, StepsDoNotDependOnTheInputsNumbering) {
     const int turn = int(t % 3);
     for (int k = 0; k < 3; ++k) shuffled.indices.push_back(newId[sphere.indices[3 * t + (k + turn) % 3]]);
   }
-  const auto original = GetParam().build(sphere, singleRegion());
-  const auto renumbered = GetParam().build(shuffled, singleRegion());
+  const auto original = GetParam().build(sphere, partition);
+  const auto renumbered = GetParam().build(shuffled, shuffledPartition);
   ASSERT_TRUE(original.ok() && renumbered.ok());
-  ASSERT_GT(original->size(), 100u);
+  ASSERT_GT(original->size(), sphere.vertexCount() / 8);
   ASSERT_EQ(original->size(), renumbered->size());
   for (std::size_t s = 0; s < original->size(); ++s) {
     ASSERT_EQ(newId[original->representative[s]], renumbered->representative[s]) << "step " << s;
+    ASSERT_EQ(original->error[s], renumbered->error[s]) << "step " << s;
     const auto a = original->removedBy(s), b = renumbered->removedBy(s);
     ASSERT_EQ(a.size(), b.size()) << "step " << s;
     std::vector<std::uint32_t> renamed;

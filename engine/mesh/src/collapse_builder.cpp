@@ -27,11 +27,13 @@ constexpr float kColourDiscontinuity = 0.25f;
 // 1.25x on bunny, cow, fandisk and spot at 50, 10 and 1% (simplify_bench).
 constexpr double kAreaExponent = 0.8;
 // Collapses that cost the same up to round-off (on flat ground) go shorter edge first:
-// flat regions then coarsen evenly, and coarse levels no longer hang on how ties fell
-// (fandisk at 1% swung between 1.0x and 1.6x meshoptimizer's Hausdorff distance).
-// Squared edge lengths are in unit-diagonal units, so this is far below any curved
-// collapse's cost.
-constexpr double kShorterEdgeFirst = 1e-9;
+// flat regions then coarsen evenly, and coarse levels hang less on how ties fell (fandisk
+// at 1% swung between 1.0x and 1.6x meshoptimizer's Hausdorff distance). The term is this
+// times the squared edge, the mesh's mean squared edge and the cost's area factor, so it
+// keeps one proportion to a curved collapse's cost (which grows as the edge to the fourth)
+// at any mesh density: it outweighs the curvature only on ground flatter than a sphere of
+// about 100 bounding-box diagonals' radius, and stays above the quadrics' round-off.
+constexpr double kShorterEdgeFirst = 1e-4;
 
 enum class VertexKind : std::uint8_t {
   Interior,  // its fan is one closed disk
@@ -110,6 +112,13 @@ class CollapseBuilder {
     collectTriangleFans(m_mesh, m_corner, m_fan);
     const auto triangleCount = static_cast<std::uint32_t>(m_corner.size() / 3);
     m_liveTriangles = triangleCount;
+
+    double squaredEdgeSum = 0.0;
+    for (std::uint32_t k = 0; k < m_corner.size(); ++k) {
+      const glm::dvec3 edge = position[m_corner[k]] - position[m_corner[k - k % 3 + (k + 1) % 3]];
+      squaredEdgeSum += glm::dot(edge, edge);
+    }
+    m_tieBreakScale = m_corner.empty() ? 0.0 : kShorterEdgeFirst * squaredEdgeSum / double(m_corner.size());
 
     setUpAttributes();
     std::vector<Quadric> quadric(m_vertexCount);
@@ -215,11 +224,14 @@ class CollapseBuilder {
       if (n.sharedTriangles == 1) ++borderEdges;
     }
     // One disk: a closed fan has as many neighbours as triangles, an open one a boundary
-    // pair and one more neighbour. Anything else (bow-ties, fins) stays put.
+    // pair and one more neighbour, and either is one consistently wound chain of
+    // triangles. Anything else (bow-ties, pinches, fins, flipped triangles) stays put.
     VertexKind& kind = m_vertex[v].kind;
     if (nonManifold) kind = VertexKind::Locked;
-    else if (borderEdges == 0 && m_neighbours.size() == triangles) kind = VertexKind::Interior;
-    else if (borderEdges == 2 && m_neighbours.size() == triangles + 1) kind = VertexKind::Border;
+    else if (borderEdges == 0 && m_neighbours.size() == triangles && fanIsOneChain(v, /*closed=*/true))
+      kind = VertexKind::Interior;
+    else if (borderEdges == 2 && m_neighbours.size() == triangles + 1 && fanIsOneChain(v, /*closed=*/false))
+      kind = VertexKind::Border;
     else kind = VertexKind::Locked;
     if (kind == VertexKind::Border) addBoundaryPlanes(v);
     // A vertex beside a colour discontinuity holds the colour border: it may only slide
@@ -227,6 +239,41 @@ class CollapseBuilder {
     if (m_options.colourWeight > 0.0 && m_mesh.hasColours())
       for (const Neighbour& n : m_neighbours)
         if (coloursDiffer(v, n.vertex)) m_vertex[v].colourBorder = true;
+  }
+
+  static std::uint32_t cornerAfter(const std::uint32_t* c, std::uint32_t v) {
+    return c[0] == v ? c[1] : c[1] == v ? c[2] : c[0];
+  }
+  static std::uint32_t cornerBefore(const std::uint32_t* c, std::uint32_t v) {
+    return c[0] == v ? c[2] : c[1] == v ? c[0] : c[1];
+  }
+
+  // Whether v's fan is one chain of consistently wound triangles, each leading through its
+  // corner after v to the triangle whose corner before v that is: a cycle through the whole
+  // fan (closed), or a path through it from the one triangle nothing leads to (open). Uses
+  // the slots of the neighbours just gathered.
+  bool fanIsOneChain(std::uint32_t v, bool closed) {
+    const std::vector<std::uint32_t>& fan = m_fan[v];
+    m_chainFrom.assign(m_neighbours.size(), kNone);  // neighbour slot -> fan entry it starts
+    for (std::uint32_t i = 0; i < fan.size(); ++i) {
+      std::uint32_t& from = m_chainFrom[m_slot[cornerBefore(&m_corner[3 * fan[i]], v)]];
+      if (from != kNone) return false;  // two triangles start at one neighbour
+      from = i;
+    }
+    std::uint32_t start = 0;
+    if (!closed) {  // the triangle whose corner before v no triangle ends at
+      m_chainLedTo.assign(m_neighbours.size(), 0);
+      for (std::uint32_t t : fan) m_chainLedTo[m_slot[cornerAfter(&m_corner[3 * t], v)]] = 1;
+      while (start < fan.size() && m_chainLedTo[m_slot[cornerBefore(&m_corner[3 * fan[start]], v)]]) ++start;
+      if (start == fan.size()) return false;
+    }
+    std::uint32_t at = start;
+    for (std::size_t visited = 1; visited <= fan.size(); ++visited) {
+      const std::uint32_t next = m_chainFrom[m_slot[cornerAfter(&m_corner[3 * fan[at]], v)]];
+      if (next == kNone || next == start) return visited == fan.size() && (next == start) == closed;
+      at = next;
+    }
+    return false;
   }
 
   // The rules every option v -> u obeys besides the boundary's: one region, and a vertex
@@ -277,7 +324,8 @@ class CollapseBuilder {
     double cost = removed.quadric.evaluate(m_vertex[u].position) * removed.areaScale;
     if (m_dims > 0) cost += attributeCost(v, u) / std::max(m_moment0[v], 1e-30);
     const glm::dvec3 edge = m_vertex[u].position - removed.position;
-    return static_cast<float>(cost + kShorterEdgeFirst * glm::dot(edge, edge));
+    const double areaFactor = removed.quadric.weight * removed.areaScale;  // area^(1 - kAreaExponent)
+    return static_cast<float>(cost + m_tieBreakScale * glm::dot(edge, edge) * areaFactor);
   }
 
   static float areaScaleOf(const Quadric& q) {
@@ -301,8 +349,7 @@ class CollapseBuilder {
     if (state.kind == VertexKind::Interior) {
       // A closed fan meets each neighbour once as the corner after v: no marks needed.
       for (std::uint32_t t : m_fan[v]) {
-        const std::uint32_t* c = &m_corner[3 * t];
-        const std::uint32_t x = c[0] == v ? c[1] : c[1] == v ? c[2] : c[0];
+        const std::uint32_t x = cornerAfter(&m_corner[3 * t], v);
         if (mayJoin(v, x)) m_optionScratch.push_back({collapseCost(v, x), x});
       }
     } else {
@@ -436,6 +483,7 @@ class CollapseBuilder {
   const CollapseOptions& m_options;
   std::uint32_t m_vertexCount = 0;
   double m_diagonal = 1.0;
+  double m_tieBreakScale = 0.0;  // kShorterEdgeFirst x mean squared edge length
   std::vector<std::uint32_t> m_corner;
   std::uint32_t m_liveTriangles = 0;
   std::vector<std::vector<std::uint32_t>> m_fan;  // each vertex's live triangles
@@ -444,6 +492,8 @@ class CollapseBuilder {
   std::vector<double> m_moment0, m_moment1, m_moment2;
   std::vector<VertexState> m_vertex;
   std::vector<std::uint32_t> m_slot;  // a marked neighbour's place in the gathered list
+  std::vector<std::uint32_t> m_chainFrom;   // fanIsOneChain scratch
+  std::vector<std::uint8_t> m_chainLedTo;
   std::uint32_t m_stamp = 0;
   IndexedMinHeap m_queue{0};  // vertices by the cost of their queued collapse
   std::vector<Neighbour> m_neighbours;

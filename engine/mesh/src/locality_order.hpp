@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <tuple>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -54,15 +53,27 @@ inline LocalityOrdered inLocalityOrder(const TriangleMesh& mesh, const RegionPar
     order[v] = {code, v};
   }
   std::sort(order.begin(), order.end());
-  // Vertices closer than the code's resolution: by position, so the input's numbering
-  // decides only between coincident ones.
-  auto byPosition = [&](const auto& a, const auto& b) {
-    const glm::vec3 &p = mesh.positions[a.second], &q = mesh.positions[b.second];
-    return std::tie(p.x, p.y, p.z, a.second) < std::tie(q.x, q.y, q.z, b.second);
+  // Vertices closer than the code's resolution: by position, then attributes, so the
+  // input's numbering decides only between copies of one vertex.
+  auto lexicographic = [](const auto& p, const auto& q) {
+    for (int k = 0; k < p.length(); ++k)
+      if (p[k] != q[k]) return p[k] < q[k] ? -1 : 1;
+    return 0;
+  };
+  auto byContent = [&](const auto& a, const auto& b) {
+    const std::uint32_t u = a.second, v = b.second;
+    if (int c = lexicographic(mesh.positions[u], mesh.positions[v])) return c < 0;
+    if (mesh.hasNormals())
+      if (int c = lexicographic(mesh.normals[u], mesh.normals[v])) return c < 0;
+    if (mesh.hasColours())
+      if (int c = lexicographic(mesh.colours[u], mesh.colours[v])) return c < 0;
+    if (mesh.hasUvs())
+      if (int c = lexicographic(mesh.uvs[u], mesh.uvs[v])) return c < 0;
+    return u < v;
   };
   for (auto run = order.begin(); run != order.end();) {
     const auto end = std::find_if(run, order.end(), [&](const auto& e) { return e.first != run->first; });
-    if (end - run > 1) std::sort(run, end, byPosition);
+    if (end - run > 1) std::sort(run, end, byContent);
     run = end;
   }
 
