@@ -859,10 +859,9 @@ Result<SimplificationSteps> buildClusterSteps(const TriangleMesh& mesh, const Re
     return makeError(ErrorKind::InvalidArgument, "cluster builder: colourWeight must be finite and >= 0");
   if (!(options.featureAngleDegrees >= 0.0 && options.featureAngleDegrees <= 180.0))
     return makeError(ErrorKind::InvalidArgument, "cluster builder: featureAngleDegrees must lie in [0, 180]");
-  const LocalityOrdered ordered = inLocalityOrder(mesh, partition);
-  SimplificationSteps steps = ClusterBuilder(ordered.mesh, ordered.partition, options).run();
-  restoreOriginalIds(steps, ordered.originalOf);
-  return steps;
+  return buildInLocalityOrder(mesh, partition, [&](const TriangleMesh& ordered, const RegionPartition& regions) {
+    return ClusterBuilder(ordered, regions, options).run();
+  });
 }
 
 }  // namespace polder::mesh

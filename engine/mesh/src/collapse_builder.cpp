@@ -113,7 +113,7 @@ class CollapseBuilder {
     const auto triangleCount = static_cast<std::uint32_t>(m_corner.size() / 3);
     m_liveTriangles = triangleCount;
 
-    double squaredEdgeSum = 0.0;
+    double squaredEdgeSum = 0.0;  // over every triangle's three edges (corner k to the next)
     for (std::uint32_t k = 0; k < m_corner.size(); ++k) {
       const glm::dvec3 edge = position[m_corner[k]] - position[m_corner[k - k % 3 + (k + 1) % 3]];
       squaredEdgeSum += glm::dot(edge, edge);
@@ -512,10 +512,9 @@ Result<SimplificationSteps> buildCollapseSteps(const TriangleMesh& mesh, const R
   if (!(options.normalWeight >= 0.0) || !(options.colourWeight >= 0.0) || !(options.uvWeight >= 0.0) ||
       !(options.boundaryWeight >= 0.0))
     return makeError(ErrorKind::InvalidArgument, "collapse builder: weights must be finite and >= 0");
-  const LocalityOrdered ordered = inLocalityOrder(mesh, partition);
-  SimplificationSteps steps = CollapseBuilder(ordered.mesh, ordered.partition, options).run();
-  restoreOriginalIds(steps, ordered.originalOf);
-  return steps;
+  return buildInLocalityOrder(mesh, partition, [&](const TriangleMesh& ordered, const RegionPartition& regions) {
+    return CollapseBuilder(ordered, regions, options).run();
+  });
 }
 
 }  // namespace polder::mesh

@@ -121,10 +121,16 @@ inline LocalityOrdered inLocalityOrder(const TriangleMesh& mesh, const RegionPar
   return out;
 }
 
-// Renames the steps' vertices from the renumbered mesh back to the input's ids.
-inline void restoreOriginalIds(SimplificationSteps& steps, const std::vector<std::uint32_t>& originalOf) {
-  for (std::uint32_t& v : steps.representative) v = originalOf[v];
-  for (std::uint32_t& v : steps.removed) v = originalOf[v];
+// Runs build(mesh, partition) -> SimplificationSteps on the copy in locality order and
+// renames the steps' vertices back to the input's ids.
+template <class Build>
+SimplificationSteps buildInLocalityOrder(const TriangleMesh& mesh, const RegionPartition& partition,
+                                         const Build& build) {
+  const LocalityOrdered ordered = inLocalityOrder(mesh, partition);
+  SimplificationSteps steps = build(ordered.mesh, ordered.partition);
+  for (std::uint32_t& v : steps.representative) v = ordered.originalOf[v];
+  for (std::uint32_t& v : steps.removed) v = ordered.originalOf[v];
+  return steps;
 }
 
 }  // namespace polder::mesh
