@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "builder_setup.hpp"
+#include "indexed_min_heap.hpp"
 #include "locality_order.hpp"
 #include "quadric.hpp"
 #include "triangle_planes.hpp"
@@ -57,20 +58,33 @@ double classWeight(VertexClass c) {
   }
 }
 
-struct HeapEntry {
-  double priority;
-  std::uint32_t vertex;
-  std::uint32_t version;
-  bool operator>(const HeapEntry& o) const { return priority > o.priority; }
+// How much of a candidate cluster evaluate() looks at.
+enum class Evaluation : std::uint8_t {
+  FirstRing,    // r's neighbours only: the initial queue's estimate
+  Tree,         // the whole tree, without the geometric checks: the queue's key
+  CheckedTree,  // the whole tree, valid: a step about to be taken
+};
+
+// What growing a tree reads and writes of a vertex, side by side: its position (single
+// precision is plenty for the cell test) and its mark.
+struct TreePoint {
+  glm::vec3 position;
+  std::uint32_t mark;  // == m_stamp: r or in r's tree; == m_stamp + 1: seen, outside
+};
+
+struct MemberScore {
+  double cost;        // of moving the member's cluster onto the representative
+  double meanSquare;  // of the cluster's plane distances there
 };
 
 struct Edge {
   std::uint32_t a, b;
 };
 
-// One side of an edge of the original mesh, for classification.
+// One side of an edge (lo, hi), lo < hi, of the original mesh, for classification (lo is
+// implied).
 struct EdgeSide {
-  std::uint32_t lo, hi, triangle;
+  std::uint32_t hi, triangle;
   bool forward;  // the triangle runs lo -> hi
 };
 
@@ -98,7 +112,10 @@ class UnionFind {
 class ClusterBuilder {
  public:
   ClusterBuilder(const TriangleMesh& mesh, const RegionPartition& partition, const ClusterOptions& options)
-      : m_mesh(mesh), m_partition(partition), m_options(options) {}
+      : m_mesh(mesh),
+        m_partition(partition),
+        m_options(options),
+        m_queue(static_cast<std::uint32_t>(mesh.vertexCount())) {}
 
   SimplificationSteps run() {
     SimplificationSteps steps;
@@ -112,8 +129,11 @@ class ClusterBuilder {
     std::size_t removedCount = 0, nextReport = reportEvery;
 
     // Seed preprocessing: every vertex gets its priority (the cost of the cluster it would
-    // gather); then the simplification loop, one step per cycle.
-    for (std::uint32_t v = 0; v < m_vertexCount; ++v) schedule(v);
+    // gather); then the simplification loop, one step per cycle. The first ring of the
+    // cluster estimates the priority at a fraction of the work: the queue evaluates the
+    // whole cluster when the vertex comes up, and most vertices are gathered before that.
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v)
+      if (evaluate(v, Evaluation::FirstRing)) m_queue.set(v, queueKey());
     std::uint32_t r = 0;
     while (m_liveTriangles > m_options.stopAtTriangles && nextRepresentative(r)) {
       gather(r);
@@ -134,50 +154,34 @@ class ClusterBuilder {
   // (after the geometric checks) still beats every other entry; otherwise it goes back
   // with that cost. On true, r and m_members hold the step to take.
   bool nextRepresentative(std::uint32_t& r) {
-    for (;;) {
-      dropStaleTop();
-      if (m_heap.empty()) return false;
-      std::pop_heap(m_heap.begin(), m_heap.end(), std::greater<>());
-      r = m_heap.back().vertex;
-      m_heap.pop_back();
-      m_queued[r] = 0;
-      if (!evaluate(r, false)) continue;
-      dropStaleTop();
-      if (!m_heap.empty() && m_priority > m_heap.front().priority) {
-        push(r);
+    while (!m_queue.empty()) {
+      r = m_queue.top();
+      m_queue.remove(r);
+      if (!evaluate(r, Evaluation::Tree)) continue;
+      if (!beatsTheQueue()) {
+        m_queue.set(r, queueKey());
         continue;
       }
       // Only a cluster about to be taken gets the geometric checks; if they fail in this
       // cell, the search for a valid cluster goes on in the next larger one.
       if (validateCluster(r)) scoreCluster(r);
-      else if (!growCell(r) || !evaluate(r, true)) continue;
-      if (m_heap.empty() || m_priority <= m_heap.front().priority) return true;
-      push(r);
+      else if (!growCell(r) || !evaluate(r, Evaluation::CheckedTree)) continue;
+      if (beatsTheQueue()) return true;
+      m_queue.set(r, queueKey());
     }
+    return false;
   }
 
-  // Pops entries superseded by a newer one or of gathered vertices, so the top is real.
-  void dropStaleTop() {
-    while (!m_heap.empty()) {
-      const HeapEntry& top = m_heap.front();
-      if (top.version == m_version[top.vertex] && m_alive[top.vertex]) return;
-      std::pop_heap(m_heap.begin(), m_heap.end(), std::greater<>());
-      m_heap.pop_back();
-    }
-  }
+  // The queue's key for the last evaluation's priority.
+  float queueKey() const { return static_cast<float>(m_priority); }
 
-  // Queues r with the priority of its last evaluation, superseding older entries.
-  void push(std::uint32_t r) {
-    m_queued[r] = 1;
-    m_heap.push_back({m_priority, r, ++m_version[r]});
-    std::push_heap(m_heap.begin(), m_heap.end(), std::greater<>());
-  }
+  // Whether the last evaluation costs no more than every queued vertex.
+  bool beatsTheQueue() const { return m_queue.empty() || queueKey() <= m_queue.key(m_queue.top()); }
 
   // (Re)evaluates r and queues it if it has something to gather.
   void schedule(std::uint32_t r) {
-    ++m_version[r];
-    m_queued[r] = 0;
-    if (m_alive[r] && evaluate(r, false)) push(r);
+    m_queue.remove(r);
+    if (m_alive[r] && evaluate(r, Evaluation::Tree)) m_queue.set(r, queueKey());
   }
 
   // Seed step 6, lazily: the representative gets its new priority at once; a neighbour
@@ -187,13 +191,14 @@ class ClusterBuilder {
   // the coarser mesh no longer shows may now join others.
   void updateNeighbourhood(std::uint32_t r) {
     collectRing(r);
+    updateClosedAround(r);
     schedule(r);
     for (std::uint32_t x : m_ring) {
-      if (!m_queued[x]) schedule(x);
+      if (!m_queue.contains(x)) schedule(x);
       if (!demoteFadedFeature(x)) continue;
       for (std::uint32_t t : m_fan[x])
         for (int k = 0; k < 3; ++k)
-          if (const std::uint32_t y = m_corner[3 * t + k]; !m_queued[y]) schedule(y);
+          if (const std::uint32_t y = m_corner[3 * t + k]; !m_queue.contains(y)) schedule(y);
     }
   }
 
@@ -222,19 +227,19 @@ class ClusterBuilder {
     const double meanEdge = classify(faceNormal);
 
     m_alive.assign(m_vertexCount, 1);
-    m_version.assign(m_vertexCount, 0);
-    m_queued.assign(m_vertexCount, 0);
-    m_mark.assign(m_vertexCount, 0);
+    m_treePoint.resize(m_vertexCount);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) m_treePoint[v] = {glm::vec3(m_position[v]), 0};
     m_ringMark.assign(m_vertexCount, 0);
     m_memberIndex.assign(m_vertexCount, 0);
     m_linkSeen.assign(m_vertexCount, 0);
+    m_runsFromR.assign(m_vertexCount, 0);
+    m_runsToR.assign(m_vertexCount, 0);
     m_keptOnEdge.assign(m_vertexCount, 0);
     m_vanishing.assign(m_vertexCount, 0);
     m_triangleSeen.assign(m_triangleAlive.size(), 0);
     // Seed: cells start as a uniform subdivision of the bounding box with size tau0.
     const double tau0 = m_options.initialCellFraction > 0.0 ? m_options.initialCellFraction : 2.0 * meanEdge;
     m_cell.assign(m_vertexCount, std::min(std::max(tau0, 1e-12), m_cellLimit));
-    m_heap.reserve(2 * std::size_t(m_vertexCount));
   }
 
   // Area-weighted colour moments per cluster, so a cluster's squared colour deviation from
@@ -261,46 +266,50 @@ class ClusterBuilder {
   // Classifies every vertex into the seed's categories from the edges around it, labels
   // feature lines, adds boundary planes; returns the mean edge length.
   double classify(const std::vector<glm::dvec3>& faceNormal) {
-    std::vector<EdgeSide> sides;
-    sides.reserve(m_corner.size());
-    for (std::uint32_t t = 0; t < m_corner.size() / 3; ++t)
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t a = m_corner[3 * t + k], b = m_corner[3 * t + (k + 1) % 3];
-        sides.push_back({std::min(a, b), std::max(a, b), t, a < b});
-      }
-    std::sort(sides.begin(), sides.end(), [](const EdgeSide& x, const EdgeSide& y) {
-      return x.lo != y.lo ? x.lo < y.lo : x.hi < y.hi;
-    });
-
     m_featureCosine = std::cos(m_options.featureAngleDegrees * 3.14159265358979323846 / 180.0);
     std::vector<std::uint32_t> neighbours(m_vertexCount, 0);
     std::vector<std::uint8_t> nonManifold(m_vertexCount, 0);
+    m_closedAround.assign(m_vertexCount, 1);
     std::vector<Edge> sharpEdges, boundaryEdges;
     m_colourBorder.assign(m_vertexCount, 0);
     double edgeLengthSum = 0.0;
     std::size_t edgeCount = 0;
-    for (std::size_t i = 0; i < sides.size();) {
-      std::size_t j = i + 1;
-      while (j < sides.size() && sides[j].lo == sides[i].lo && sides[j].hi == sides[i].hi) ++j;
-      const std::uint32_t a = sides[i].lo, b = sides[i].hi;
-      ++neighbours[a], ++neighbours[b];
-      edgeLengthSum += glm::length(m_position[a] - m_position[b]);
-      ++edgeCount;
-      if (j - i == 1) {
-        boundaryEdges.push_back({a, b});
-        addBoundaryEdgeQuadric(m_position[a], m_position[b], faceNormal[sides[i].triangle], kBoundaryWeight,
-                               m_quadric[a], m_quadric[b]);
-      } else if (j - i == 2) {
-        const glm::dvec3 n0 = faceNormal[sides[i].triangle];
-        // Two consistently oriented triangles run the edge in opposite directions.
-        const glm::dvec3 n1 = faceNormal[sides[i + 1].triangle] * (sides[i].forward != sides[i + 1].forward ? 1.0 : -1.0);
-        if (glm::dot(n0, n0) > 0.0 && glm::dot(n1, n1) > 0.0 && glm::dot(n0, n1) < m_featureCosine)
-          sharpEdges.push_back({a, b});
-      } else {
-        nonManifold[a] = nonManifold[b] = 1;
+    // Each edge (a, b), a < b, once: from a's fan, with its sides.
+    std::vector<EdgeSide> sides;
+    for (std::uint32_t a = 0; a < m_vertexCount; ++a) {
+      sides.clear();
+      for (std::uint32_t t : m_fan[a]) {
+        const std::uint32_t* c = &m_corner[3 * t];
+        const int at = cornerIndex(c, a);
+        if (const std::uint32_t after = c[(at + 1) % 3]; after > a) sides.push_back({after, t, true});
+        if (const std::uint32_t before = c[(at + 2) % 3]; before > a) sides.push_back({before, t, false});
       }
-      if (m_useColours && coloursDiffer(a, b)) m_colourBorder[a] = m_colourBorder[b] = 1;
-      i = j;
+      std::sort(sides.begin(), sides.end(), [](const EdgeSide& x, const EdgeSide& y) { return x.hi < y.hi; });
+      for (std::size_t i = 0; i < sides.size();) {
+        std::size_t j = i + 1;
+        while (j < sides.size() && sides[j].hi == sides[i].hi) ++j;
+        const std::uint32_t b = sides[i].hi;
+        ++neighbours[a], ++neighbours[b];
+        if (j - i != 2 || sides[i].forward == sides[i + 1].forward) m_closedAround[a] = m_closedAround[b] = 0;
+        edgeLengthSum += glm::length(m_position[a] - m_position[b]);
+        ++edgeCount;
+        if (j - i == 1) {
+          boundaryEdges.push_back({a, b});
+          addBoundaryEdgeQuadric(m_position[a], m_position[b], faceNormal[sides[i].triangle], kBoundaryWeight,
+                                 m_quadric[a], m_quadric[b]);
+        } else if (j - i == 2) {
+          const glm::dvec3 n0 = faceNormal[sides[i].triangle];
+          // Two consistently oriented triangles run the edge in opposite directions.
+          const double flip = sides[i].forward != sides[i + 1].forward ? 1.0 : -1.0;
+          const glm::dvec3 n1 = faceNormal[sides[i + 1].triangle] * flip;
+          if (glm::dot(n0, n0) > 0.0 && glm::dot(n1, n1) > 0.0 && glm::dot(n0, n1) < m_featureCosine)
+            sharpEdges.push_back({a, b});
+        } else {
+          nonManifold[a] = nonManifold[b] = 1;
+        }
+        if (m_useColours && coloursDiffer(a, b)) m_colourBorder[a] = m_colourBorder[b] = 1;
+        i = j;
+      }
     }
     const double meanEdge = edgeCount > 0 ? edgeLengthSum / double(edgeCount) : 1.0;
 
@@ -396,22 +405,22 @@ class ClusterBuilder {
 
   // The cluster r would gather now (m_members), its priority and error. A cell that holds
   // nothing r may gather grows until it does or covers the bounding box; false then.
-  // Without `validate` the geometric checks are left out: a cheaper estimate for the
-  // queue, which nextRepresentative validates before a step is taken.
-  bool evaluate(std::uint32_t r, bool validate) {
+  bool evaluate(std::uint32_t r, Evaluation evaluation) {
     for (;;) {
-      growTree(r, m_cell[r]);
-      dropCostlyMembers(r);
-      if (!m_members.empty() && (!validate || validateCluster(r))) break;
+      growTree(r, m_cell[r], evaluation != Evaluation::FirstRing);
+      scoreMembers(r);
+      dropCostlyMembers();
+      if (!m_members.empty() && (evaluation != Evaluation::CheckedTree || validateCluster(r))) break;
       if (!growCell(r)) return false;
     }
     scoreCluster(r);
     return true;
   }
 
-  // Grows r's cell by `cellGrowth`; false once it already covers the bounding box.
+  // Grows r's cell by `cellGrowth`; false when that cannot change r's last tree: the cell
+  // left no vertex out, or it already covers the bounding box.
   bool growCell(std::uint32_t r) {
-    if (m_cell[r] >= m_cellLimit) return false;
+    if (!m_cellLeftOut || m_cell[r] >= m_cellLimit) return false;
     m_cell[r] = std::min(m_cell[r] * m_options.cellGrowth, m_cellLimit);
     return true;
   }
@@ -428,45 +437,67 @@ class ClusterBuilder {
 
   // Seed steps 2 and 3: the spanning tree of r over current edges, breadth first, through
   // vertices inside the floating cell (a cube of side tau centred on r), in r's region,
-  // that may join r under the classification rules. m_mark[x] == m_stamp marks r and the
-  // tree; m_parent holds each member's parent (an index into m_members, kNone for r).
-  void growTree(std::uint32_t r, double tau) {
+  // that may join r under the classification rules (only r's neighbours unless
+  // `wholeTree`). m_treePoint[x].mark == m_stamp marks r and the tree; m_parent holds each
+  // member's parent (an index into m_members, kNone for r).
+  void growTree(std::uint32_t r, double tau, bool wholeTree) {
     nextStamps();
-    const std::uint32_t outside = m_stamp + 1;  // out of the cell or the region: seen once
-    m_mark[r] = m_stamp;
+    const std::uint32_t inTree = m_stamp, outside = m_stamp + 1;  // out of the cell or the region: seen once
+    TreePoint* point = m_treePoint.data();
+    const std::uint32_t* corner = m_corner.data();
+    point[r].mark = inTree;
     m_members.clear();
     m_parent.clear();
-    const glm::dvec3 centre = m_position[r];
-    const double half = 0.5 * tau;
+    m_cellLeftOut = false;
+    const glm::vec3 centre = point[r].position;
+    const auto half = static_cast<float>(0.5 * tau);
     const std::uint32_t region = m_partition.regionOf(r);
-    auto visit = [&](std::uint32_t p, std::uint32_t parentIndex) {
-      for (std::uint32_t t : m_fan[p]) {  // live triangles only (gather)
-        for (int k = 0; k < 3; ++k) {
-          const std::uint32_t x = m_corner[3 * t + k];
-          if (m_mark[x] == m_stamp || m_mark[x] == outside) continue;
-          const glm::dvec3 d = glm::abs(m_position[x] - centre);
-          if (d.x > half || d.y > half || d.z > half || m_partition.regionOf(x) != region) {
-            m_mark[x] = outside;
-            continue;
-          }
-          if (!keepsFeature(p, x)) continue;  // depends on the edge it is reached by
-          m_mark[x] = m_stamp;
-          m_members.push_back(x);
-          m_parent.push_back(parentIndex);
-          m_memberIndex[x] = static_cast<std::uint32_t>(m_members.size() - 1);
-          if (m_members.size() == kMaxClusterSize) return;
-        }
+    // Whether the tree has room for more after x, reached from p, was looked at.
+    auto consider = [&](std::uint32_t p, std::uint32_t x, std::uint32_t parentIndex) {
+      TreePoint& at = point[x];
+      if (at.mark == inTree || at.mark == outside) return true;
+      const glm::vec3 d = glm::abs(at.position - centre);
+      if (d.x > half || d.y > half || d.z > half) {
+        at.mark = outside;
+        m_cellLeftOut = true;
+        return true;
       }
+      if (m_partition.regionOf(x) != region) {
+        at.mark = outside;
+        return true;
+      }
+      if (!keepsFeature(p, x)) return true;  // depends on the edge it is reached by
+      at.mark = inTree;
+      m_members.push_back(x);
+      m_parent.push_back(parentIndex);
+      m_memberIndex[x] = static_cast<std::uint32_t>(m_members.size() - 1);
+      return m_members.size() < kMaxClusterSize;
     };
-    visit(r, kNone);
-    for (std::uint32_t i = 0; i < m_members.size() && m_members.size() < kMaxClusterSize; ++i) visit(m_members[i], i);
+    // p's neighbours through its live triangles; around a vertex with every edge run both
+    // ways, each neighbour is the corner after p in exactly one triangle.
+    auto visit = [&](std::uint32_t p, std::uint32_t parentIndex) {
+      const bool closed = m_closedAround[p];
+      for (std::uint32_t t : m_fan[p]) {
+        const std::uint32_t* c = corner + 3 * t;
+        const int at = cornerIndex(c, p);
+        if (!consider(p, c[(at + 1) % 3], parentIndex)) return false;
+        if (!closed && !consider(p, c[(at + 2) % 3], parentIndex)) return false;
+      }
+      return true;
+    };
+    if (!visit(r, kNone) || !wholeTree) return;
+    for (std::uint32_t i = 0; i < m_members.size(); ++i)
+      if (!visit(m_members[i], i)) return;
   }
+
+  // Which of triangle c's corners is v (v is one of them).
+  static int cornerIndex(const std::uint32_t* c, std::uint32_t v) { return c[0] == v ? 0 : c[1] == v ? 1 : 2; }
 
   // Two fresh mark values (the tree's and the outside's); marks are cleared before the
   // counter would wrap.
   void nextStamps() {
     if (m_stamp >= std::numeric_limits<std::uint32_t>::max() - 2) {
-      std::fill(m_mark.begin(), m_mark.end(), 0u);
+      for (TreePoint& p : m_treePoint) p.mark = 0;
       m_stamp = 0;
     }
     m_stamp += 2;
@@ -516,14 +547,13 @@ class ClusterBuilder {
   // Seed step 3, "vertices that can be clustered": a member whose cost is far above the
   // cluster's mean (across a ridge, up a flank) stays out, with its subtree, so clusters
   // follow the directions that cost little (along a cylinder rather than around it).
-  void dropCostlyMembers(std::uint32_t r) {
+  void dropCostlyMembers() {
     if (m_members.size() < 2) return;
     m_dropped.assign(m_members.size(), 0);
-    m_memberCost.resize(m_members.size());
     double sum = 0.0;
-    for (std::size_t i = 0; i < m_members.size(); ++i) sum += m_memberCost[i] = memberCost(m_members[i], r);
+    for (const MemberScore& score : m_memberScore) sum += score.cost;
     const double limit = kOutlierFactor * sum / double(m_members.size());
-    for (std::size_t i = 0; i < m_members.size(); ++i) m_dropped[i] = m_memberCost[i] > limit;
+    for (std::size_t i = 0; i < m_members.size(); ++i) m_dropped[i] = m_memberScore[i].cost > limit;
     dropSubtrees();
     removeDroppedMembers();
   }
@@ -545,7 +575,7 @@ class ClusterBuilder {
   void dropSubtrees() {
     for (std::size_t i = 0; i < m_members.size(); ++i) {
       if (!m_dropped[i] && m_parent[i] != kNone && m_dropped[m_parent[i]]) m_dropped[i] = 1;
-      if (m_dropped[i]) m_mark[m_members[i]] = 0;
+      if (m_dropped[i]) m_treePoint[m_members[i]].mark = 0;
     }
   }
 
@@ -564,7 +594,7 @@ class ClusterBuilder {
         const bool vanishing = vanishes(t);
         for (int k = 0; k < 3; ++k) {
           const std::uint32_t x = m_corner[3 * t + k];
-          if (m_mark[x] == m_stamp) continue;
+          if (m_treePoint[x].mark == m_stamp) continue;
           if (m_linkSeen[x] != m_linkStamp) {
             m_linkSeen[x] = m_linkStamp;
             m_keptOnEdge[x] = m_vanishing[x] = 0;
@@ -587,7 +617,8 @@ class ClusterBuilder {
         if (!m_triangleAlive[t]) continue;
         for (int k = 0; k < 3; ++k) {
           const std::uint32_t y = m_corner[3 * t + k];
-          if (y != r && m_mark[y] == m_stamp && (last == kNone || m_memberIndex[y] > last)) last = m_memberIndex[y];
+          if (y == r || m_treePoint[y].mark != m_stamp) continue;
+          if (last == kNone || m_memberIndex[y] > last) last = m_memberIndex[y];
         }
       }
       if (last == kNone) continue;  // only r is next to x: r's own fan, unchanged by the step
@@ -604,7 +635,7 @@ class ClusterBuilder {
     return count;
   }
 
-  // Compacts m_members, renumbering parents (a kept member's parent is kept too).
+  // Compacts m_members and their scores, renumbering parents (a kept member's parent is kept too).
   void removeDroppedMembers() {
     m_newIndex.resize(m_members.size());
     std::uint32_t kept = 0;
@@ -613,11 +644,13 @@ class ClusterBuilder {
       m_newIndex[i] = kept;
       m_members[kept] = m_members[i];
       m_parent[kept] = m_parent[i] == kNone ? kNone : m_newIndex[m_parent[i]];
+      m_memberScore[kept] = m_memberScore[i];
       m_memberIndex[m_members[kept]] = kept;
       ++kept;
     }
     m_members.resize(kept);
     m_parent.resize(kept);
+    m_memberScore.resize(kept);
   }
 
   // Whether moving member v onto r turns a triangle that keeps existing (one with no other
@@ -644,7 +677,8 @@ class ClusterBuilder {
   // removes it; a triangle with one marked corner is re-pointed at r.
   bool vanishes(std::uint32_t t) const {
     const std::uint32_t* c = &m_corner[3 * t];
-    return (m_mark[c[0]] == m_stamp) + (m_mark[c[1]] == m_stamp) + (m_mark[c[2]] == m_stamp) >= 2;
+    auto marked = [&](std::uint32_t v) { return m_treePoint[v].mark == m_stamp; };
+    return marked(c[0]) + marked(c[1]) + marked(c[2]) >= 2;
   }
 
   // Whether some triangle at the cluster survives the step. If none does, the piece of
@@ -657,19 +691,26 @@ class ClusterBuilder {
     return false;
   }
 
-  // The cost of moving v's cluster onto r: its planes' quadric error and its colours'
-  // squared deviation from r's colour (both area-weighted), times v's class weight, plus
-  // the compactness tie-breaker.
-  double memberCost(std::uint32_t v, std::uint32_t r) const {
+  // Per member v of the tree just grown (m_memberScore, kept in step with m_members): the
+  // cost of moving v's cluster onto r, which is its planes' quadric error and its colours'
+  // squared deviation from r's colour (both area-weighted) times v's class weight, plus the
+  // compactness tie-breaker; and the mean squared plane distance of v's cluster at r.
+  void scoreMembers(std::uint32_t r) {
     const glm::dvec3& at = m_position[r];
-    const Quadric& q = m_quadric[v];
-    double colour = 0.0;
-    if (m_useColours) {
-      const glm::dvec3& c = m_colour[r];
-      colour = std::max(0.0, m_moment0[v] * glm::dot(c, c) - 2.0 * glm::dot(c, m_moment1[v]) + m_moment2[v]);
+    m_memberScore.resize(m_members.size());
+    for (std::size_t i = 0; i < m_members.size(); ++i) {
+      const std::uint32_t v = m_members[i];
+      const Quadric& q = m_quadric[v];
+      const double planes = q.evaluate(at);
+      double colour = 0.0;
+      if (m_useColours) {
+        const glm::dvec3& c = m_colour[r];
+        colour = std::max(0.0, m_moment0[v] * glm::dot(c, c) - 2.0 * glm::dot(c, m_moment1[v]) + m_moment2[v]);
+      }
+      const glm::dvec3 d = m_position[v] - at;
+      m_memberScore[i].cost = classWeight(m_class[v]) * (planes + colour) + kCompactness * q.weight * glm::dot(d, d);
+      m_memberScore[i].meanSquare = q.weight > 0.0 ? planes / q.weight : 0.0;
     }
-    const glm::dvec3 d = m_position[v] - at;
-    return classWeight(m_class[v]) * (q.evaluate(at) + colour) + kCompactness * q.weight * glm::dot(d, d);
   }
 
   // Priority (seed step 1, lowest first): the members' mean cost, so that steps remove
@@ -679,10 +720,9 @@ class ClusterBuilder {
     const glm::dvec3& at = m_position[r];
     double sum = 0.0, worstMeanSquare = 0.0;
     if (m_quadric[r].weight > 0.0) worstMeanSquare = m_quadric[r].evaluate(at) / m_quadric[r].weight;
-    for (std::uint32_t v : m_members) {
-      sum += memberCost(v, r);
-      const Quadric& q = m_quadric[v];
-      if (q.weight > 0.0) worstMeanSquare = std::max(worstMeanSquare, q.evaluate(at) / q.weight);
+    for (const MemberScore& score : m_memberScore) {
+      sum += score.cost;
+      worstMeanSquare = std::max(worstMeanSquare, score.meanSquare);
     }
     m_priority = sum / double(m_members.size());
     m_error = static_cast<float>(std::sqrt(worstMeanSquare) * m_diagonal);
@@ -702,7 +742,7 @@ class ClusterBuilder {
           // Out of its unmarked corner's fan too (the members' fans go, r's is compacted),
           // so every fan holds live triangles only.
           for (int k = 0; k < 3; ++k)
-            if (const std::uint32_t x = m_corner[3 * t + k]; m_mark[x] != m_stamp) {
+            if (const std::uint32_t x = m_corner[3 * t + k]; m_treePoint[x].mark != m_stamp) {
               std::vector<std::uint32_t>& fan = m_fan[x];
               if (const auto at = std::find(fan.begin(), fan.end(), t); at != fan.end()) fan.erase(at);
             }
@@ -714,7 +754,7 @@ class ClusterBuilder {
       }
       std::vector<std::uint32_t>().swap(m_fan[v]);
       m_alive[v] = 0;
-      ++m_version[v];
+      m_queue.remove(v);
       m_quadric[r] += m_quadric[v];
       if (m_useColours) {
         m_moment0[r] += m_moment0[v];
@@ -789,6 +829,28 @@ class ClusterBuilder {
     return lengths > 0.0 && glm::dot(ns, nt) < m_featureCosine * lengths;
   }
 
+  // A step changes only the edges at r: r is closed around if each of its edges now has one
+  // triangle running each way, and a neighbour x that was stays so if edge (r, x) does.
+  void updateClosedAround(std::uint32_t r) {
+    ++m_linkStamp;
+    for (std::uint32_t t : m_fan[r]) {
+      const std::uint32_t* c = &m_corner[3 * t];
+      const int at = cornerIndex(c, r);
+      const std::uint32_t after = c[(at + 1) % 3], before = c[(at + 2) % 3];
+      for (std::uint32_t x : {after, before})
+        if (m_linkSeen[x] != m_linkStamp) m_linkSeen[x] = m_linkStamp, m_runsFromR[x] = m_runsToR[x] = 0;
+      ++m_runsFromR[after];
+      ++m_runsToR[before];
+    }
+    bool closed = true;
+    for (std::uint32_t x : m_ring) {
+      if (m_runsFromR[x] == 1 && m_runsToR[x] == 1) continue;
+      m_closedAround[x] = 0;
+      closed = false;
+    }
+    m_closedAround[r] = closed;
+  }
+
   // r's current neighbours, each once (gather left r's fan free of dead triangles).
   void collectRing(std::uint32_t r) {
     m_ring.clear();
@@ -822,15 +884,17 @@ class ClusterBuilder {
   std::vector<glm::dvec3> m_moment1;
   std::vector<VertexClass> m_class;
   std::vector<std::uint8_t> m_colourBorder;
+  // Every edge at the vertex has two triangles, one running each way (set up, then kept by
+  // updateClosedAround).
+  std::vector<std::uint8_t> m_closedAround;
   std::vector<std::uint32_t> m_line;         // feature line of a sharp-edge vertex
   std::vector<std::uint64_t> m_cornerLines;  // sorted lineKey(corner, line) of lines ending at corners
   std::vector<std::uint8_t> m_alive;
   std::vector<double> m_cell;  // per vertex: its floating cell's size tau
-  std::vector<std::uint32_t> m_version;
-  std::vector<std::uint8_t> m_queued;  // has a current entry in the heap
-  std::vector<HeapEntry> m_heap;
+  IndexedMinHeap m_queue;  // vertices with something to gather, by priority
   // Scratch of the last evaluation.
-  std::vector<std::uint32_t> m_mark, m_ringMark;
+  std::vector<TreePoint> m_treePoint;
+  std::vector<std::uint32_t> m_ringMark;
   std::uint32_t m_stamp = 0, m_ringStamp = 0;
   std::vector<std::uint32_t> m_members, m_parent, m_ring;
   std::vector<std::uint8_t> m_dropped;
@@ -839,10 +903,12 @@ class ClusterBuilder {
   // Pinch check scratch: per vertex and per triangle stamps, per vertex counts.
   std::uint32_t m_linkStamp = 0;
   std::vector<std::uint32_t> m_linkSeen, m_triangleSeen, m_keptOnEdge, m_vanishing, m_touched;
-  std::vector<double> m_memberCost;
+  std::vector<std::uint32_t> m_runsFromR, m_runsToR;  // updateClosedAround: edge (r, x)'s triangles each way
+  std::vector<MemberScore> m_memberScore;
   std::vector<std::uint32_t> m_newIndex;
   double m_priority = 0.0;
   float m_error = 0.0f;
+  bool m_cellLeftOut = false;  // the last tree's cell left out a vertex it could have reached
 };
 
 }  // namespace
