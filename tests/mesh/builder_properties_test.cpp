@@ -196,6 +196,36 @@ TEST_P(BuilderProperties, StepsDoNotDependOnTheInputsNumbering) {
 
 void PrintTo(const Builder& builder, std::ostream* out) { *out << builder.name; }
 
+// Two closed surfaces touching at one vertex (a pinch), and a sphere with one triangle
+// wound against the others: the vertices whose fan is not one consistently wound disk
+// keep their place; the rest of the surface still simplifies.
+TEST_P(BuilderProperties, APinchOrAFlippedTriangleKeepsItsVertices) {
+  // The upper sphere's south pole (its last vertex, at z = -1) is the lower one's north pole.
+  TriangleMesh pinched = test::bumpySphere(12, 16);
+  const auto upperCount = static_cast<std::uint32_t>(pinched.vertexCount());
+  const std::uint32_t pinch = upperCount - 1;
+  TriangleMesh lower = test::bumpySphere(12, 16);
+  for (glm::vec3& p : lower.positions) p.z -= 2.0f;
+  pinched.positions.insert(pinched.positions.end(), lower.positions.begin() + 1, lower.positions.end());
+  for (std::uint32_t i : lower.indices) pinched.indices.push_back(i == 0 ? pinch : upperCount + i - 1);
+  {
+    auto steps = GetParam().build(pinched, singleRegion());
+    ASSERT_TRUE(steps.ok());
+    EXPECT_GT(steps->removed.size(), pinched.vertexCount() / 2) << "the rest still simplifies";
+    EXPECT_EQ(std::count(steps->removed.begin(), steps->removed.end(), pinch), 0) << "the pinch moved";
+  }
+
+  TriangleMesh flipped = test::bumpySphere(12, 16);
+  const std::size_t t = flipped.triangleCount() / 2;
+  std::swap(flipped.indices[3 * t + 1], flipped.indices[3 * t + 2]);
+  auto steps = GetParam().build(flipped, singleRegion());
+  ASSERT_TRUE(steps.ok());
+  EXPECT_GT(steps->removed.size(), flipped.vertexCount() / 2);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_EQ(std::count(steps->removed.begin(), steps->removed.end(), flipped.indices[3 * t + k]), 0)
+        << "a corner of the flipped triangle moved";
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Builders, BuilderProperties,
     ::testing::Values(Builder{"collapse", [](const TriangleMesh& m, const RegionPartition& p) { return buildCollapseSteps(m, p); }},

@@ -345,7 +345,8 @@ class ClusterBuilder {
     for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
       const auto triangles = static_cast<std::uint32_t>(m_fan[v].size());  // all alive at set-up
       if (triangles == 0 || nonManifold[v]) continue;
-      const bool closedDisk = boundaryCount[v] == 0 && neighbours[v] == triangles;
+      const bool closedDisk =
+          boundaryCount[v] == 0 && neighbours[v] == triangles && m_closedAround[v] && fanIsOneCycle(v);
       const bool openDisk = boundaryCount[v] == 2 && neighbours[v] == triangles + 1;
       if (openDisk) {
         const bool corner = sharpCount[v] > 0 || (cornersByTurn[v] && turns(v, boundaryNeighbour));
@@ -359,6 +360,28 @@ class ClusterBuilder {
     }
     labelLines(sharpEdges);
     return meanEdge;
+  }
+
+  // Whether v's triangles (every edge at v run both ways) make one cycle around it, each
+  // triangle's corner after v being the next one's corner before v: a consistently wound
+  // disk, where two fans pinched together at v make two cycles.
+  bool fanIsOneCycle(std::uint32_t v) const {
+    const std::vector<std::uint32_t>& fan = m_fan[v];
+    auto neighbourAt = [&](std::uint32_t t, int offset) {
+      const std::uint32_t* c = &m_corner[3 * t];
+      return c[(cornerIndex(c, v) + offset) % 3];
+    };
+    std::size_t length = 0;
+    std::uint32_t t = fan.front();
+    do {
+      const std::uint32_t after = neighbourAt(t, 1);
+      const auto next =
+          std::find_if(fan.begin(), fan.end(), [&](std::uint32_t u) { return neighbourAt(u, 2) == after; });
+      if (next == fan.end()) return false;
+      t = *next;
+      ++length;
+    } while (t != fan.front() && length < fan.size());
+    return t == fan.front() && length == fan.size();
   }
 
   // Removes the edges of connected components (through shared vertices) whose bounding
