@@ -29,6 +29,15 @@ inline NormalizedPositions normalizePositions(const std::vector<glm::vec3>& posi
   return out;
 }
 
+// The corners after and before v in triangle c (v is one of its three corners): walking
+// them round a vertex's fan follows the triangles' winding.
+inline std::uint32_t cornerAfter(const std::uint32_t* c, std::uint32_t v) {
+  return c[0] == v ? c[1] : c[1] == v ? c[2] : c[0];
+}
+inline std::uint32_t cornerBefore(const std::uint32_t* c, std::uint32_t v) {
+  return c[0] == v ? c[2] : c[1] == v ? c[0] : c[1];
+}
+
 // The input's triangles without degenerate ones, three corners each, and every vertex's
 // triangles (its fan).
 inline void collectTriangleFans(const TriangleMesh& mesh, std::vector<std::uint32_t>& corners,

@@ -280,9 +280,8 @@ class ClusterBuilder {
       sides.clear();
       for (std::uint32_t t : m_fan[a]) {
         const std::uint32_t* c = &m_corner[3 * t];
-        const int at = cornerIndex(c, a);
-        if (const std::uint32_t after = c[(at + 1) % 3]; after > a) sides.push_back({after, t, true});
-        if (const std::uint32_t before = c[(at + 2) % 3]; before > a) sides.push_back({before, t, false});
+        if (const std::uint32_t after = cornerAfter(c, a); after > a) sides.push_back({after, t, true});
+        if (const std::uint32_t before = cornerBefore(c, a); before > a) sides.push_back({before, t, false});
       }
       std::sort(sides.begin(), sides.end(), [](const EdgeSide& x, const EdgeSide& y) { return x.hi < y.hi; });
       for (std::size_t i = 0; i < sides.size();) {
@@ -367,16 +366,12 @@ class ClusterBuilder {
   // disk, where two fans pinched together at v make two cycles.
   bool fanIsOneCycle(std::uint32_t v) const {
     const std::vector<std::uint32_t>& fan = m_fan[v];
-    auto neighbourAt = [&](std::uint32_t t, int offset) {
-      const std::uint32_t* c = &m_corner[3 * t];
-      return c[(cornerIndex(c, v) + offset) % 3];
-    };
     std::size_t length = 0;
     std::uint32_t t = fan.front();
     do {
-      const std::uint32_t after = neighbourAt(t, 1);
-      const auto next =
-          std::find_if(fan.begin(), fan.end(), [&](std::uint32_t u) { return neighbourAt(u, 2) == after; });
+      const std::uint32_t after = cornerAfter(&m_corner[3 * t], v);
+      auto startsAtAfter = [&](std::uint32_t u) { return cornerBefore(&m_corner[3 * u], v) == after; };
+      const auto next = std::find_if(fan.begin(), fan.end(), startsAtAfter);
       if (next == fan.end()) return false;
       t = *next;
       ++length;
@@ -502,9 +497,8 @@ class ClusterBuilder {
       const bool closed = m_closedAround[p];
       for (std::uint32_t t : m_fan[p]) {
         const std::uint32_t* c = corner + 3 * t;
-        const int at = cornerIndex(c, p);
-        if (!consider(p, c[(at + 1) % 3], parentIndex)) return false;
-        if (!closed && !consider(p, c[(at + 2) % 3], parentIndex)) return false;
+        if (!consider(p, cornerAfter(c, p), parentIndex)) return false;
+        if (!closed && !consider(p, cornerBefore(c, p), parentIndex)) return false;
       }
       return true;
     };
@@ -512,9 +506,6 @@ class ClusterBuilder {
     for (std::uint32_t i = 0; i < m_members.size(); ++i)
       if (!visit(m_members[i], i)) return;
   }
-
-  // Which of triangle c's corners is v (v is one of them).
-  static int cornerIndex(const std::uint32_t* c, std::uint32_t v) { return c[0] == v ? 0 : c[1] == v ? 1 : 2; }
 
   // Two fresh mark values (the tree's and the outside's); marks are cleared before the
   // counter would wrap.
@@ -841,11 +832,7 @@ class ClusterBuilder {
 
   // Whether the current triangles s and t on edge (x, y) meet at more than the feature angle.
   bool isSharp(std::uint32_t x, std::uint32_t y, std::uint32_t s, std::uint32_t t) const {
-    auto runsForward = [&](std::uint32_t u) {  // u's corners go x -> y
-      for (int k = 0; k < 3; ++k)
-        if (m_corner[3 * u + k] == x) return m_corner[3 * u + (k + 1) % 3] == y;
-      return false;
-    };
+    auto runsForward = [&](std::uint32_t u) { return cornerAfter(&m_corner[3 * u], x) == y; };  // x -> y
     const glm::dvec3 ns = triangleCross(m_position, &m_corner[3 * s]);
     const glm::dvec3 nt = triangleCross(m_position, &m_corner[3 * t]) * (runsForward(s) != runsForward(t) ? 1.0 : -1.0);
     const double lengths = glm::length(ns) * glm::length(nt);
@@ -858,8 +845,7 @@ class ClusterBuilder {
     ++m_linkStamp;
     for (std::uint32_t t : m_fan[r]) {
       const std::uint32_t* c = &m_corner[3 * t];
-      const int at = cornerIndex(c, r);
-      const std::uint32_t after = c[(at + 1) % 3], before = c[(at + 2) % 3];
+      const std::uint32_t after = cornerAfter(c, r), before = cornerBefore(c, r);
       for (std::uint32_t x : {after, before})
         if (m_linkSeen[x] != m_linkStamp) m_linkSeen[x] = m_linkStamp, m_runsFromR[x] = m_runsToR[x] = 0;
       ++m_runsFromR[after];

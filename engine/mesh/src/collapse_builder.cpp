@@ -241,13 +241,6 @@ class CollapseBuilder {
         if (coloursDiffer(v, n.vertex)) m_vertex[v].colourBorder = true;
   }
 
-  static std::uint32_t cornerAfter(const std::uint32_t* c, std::uint32_t v) {
-    return c[0] == v ? c[1] : c[1] == v ? c[2] : c[0];
-  }
-  static std::uint32_t cornerBefore(const std::uint32_t* c, std::uint32_t v) {
-    return c[0] == v ? c[2] : c[1] == v ? c[0] : c[1];
-  }
-
   // Whether v's fan is one chain of consistently wound triangles, each leading through its
   // corner after v to the triangle whose corner before v that is: a cycle through the whole
   // fan (closed), or a path through it from the one triangle nothing leads to (open). Uses
