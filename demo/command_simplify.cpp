@@ -8,6 +8,7 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <unordered_set>
 
 #include <nlohmann/json.hpp>
@@ -36,6 +37,7 @@ struct SimplifyArguments {
   std::string json;
   std::string texture;
   bool ignoreAttributes = false;
+  bool weldUvSeams = false;
   std::size_t samples = 200000;
 };
 
@@ -70,16 +72,28 @@ bool isSubsetOfOriginal(const mesh::TriangleMesh& original, const mesh::Triangle
   return true;
 }
 
+// The triangles with every vertex replaced by the first one at its position: the surface's
+// connectivity, with texture seams (vertices split where their UVs differ) closed.
+std::vector<std::uint32_t> weldedIndices(const mesh::TriangleMesh& mesh) {
+  std::unordered_map<glm::vec3, std::uint32_t, PositionHash> first;
+  first.reserve(mesh.vertexCount());
+  std::vector<std::uint32_t> welded;
+  welded.reserve(mesh.indices.size());
+  for (std::uint32_t v : mesh.indices) welded.push_back(first.try_emplace(mesh.positions[v], v).first->second);
+  return welded;
+}
+
 // Open edges of the output that do not lie on the original's open boundary: an output open
-// edge is allowed only between two vertices of original open edges.
+// edge is allowed only between two vertices of original open edges. Both are taken with
+// positions welded, so a crack along a texture seam counts.
 std::size_t openEdgesAdded(const mesh::TriangleMesh& original, const mesh::TriangleMesh& simplified) {
   std::unordered_set<glm::vec3, PositionHash> boundary;
-  for (const auto& [a, b] : mesh::openEdges(original.indices)) {
+  for (const auto& [a, b] : mesh::openEdges(weldedIndices(original))) {
     boundary.insert(original.positions[a]);
     boundary.insert(original.positions[b]);
   }
   std::size_t added = 0;
-  for (const auto& [a, b] : mesh::openEdges(simplified.indices))
+  for (const auto& [a, b] : mesh::openEdges(weldedIndices(simplified)))
     added += !(boundary.contains(simplified.positions[a]) && boundary.contains(simplified.positions[b]));
   return added;
 }
@@ -93,6 +107,7 @@ int runSimplify(const SimplifyArguments& arguments) {
     return reportError(makeError(ErrorKind::InvalidArgument, "--triangles must be at least 1"));
 
   mesh_io::MeshReadOptions readOptions;
+  readOptions.keepUvSeams = !arguments.weldUvSeams;  // the output keeps the texture's seams
   if (!arguments.texture.empty()) readOptions.bakeTexture = arguments.texture;
   auto original = mesh_io::readMesh(arguments.input, readOptions);
   if (!original) return reportError(original.error());
@@ -196,6 +211,9 @@ void addSimplifyCommand(CLI::App& app, int& exitCode) {
   command->add_option("--json", arguments->json, "Write a JSON report here");
   command->add_option("--texture", arguments->texture, "Bake this texture into vertex colours at the mesh's UVs");
   command->add_flag("--ignore-attributes", arguments->ignoreAttributes, "Simplify by geometry only");
+  command->add_flag("--weld-uv-seams", arguments->weldUvSeams,
+                    "Weld vertices split only by texture coordinates (seams then simplify freely, the texture smears "
+                    "along them)");
   command->add_option("--samples", arguments->samples, "Surface samples per mesh for the distances")
       ->check(CLI::Range(std::size_t(1000), std::size_t(100000000)));
   command->callback([arguments, &exitCode] { exitCode = runSimplify(*arguments); });

@@ -93,6 +93,7 @@ struct Model {
   std::string file;
   std::string texture;  // baked into colours; empty: none
   TriangleMesh mesh;
+  bool keepUvSeams = false;  // vertices stay split where texture coordinates differ
 };
 
 enum class Builder { CollapseGeometry, CollapseDefault, CollapseColourBlind, ClusterDefault, ClusterColourBlind };
@@ -318,6 +319,9 @@ int main(int argc, char** argv) {
       {"cow", "cow.obj", "", {}},
       {"fandisk", "fandisk.obj", "", {}},
       {"spot", "spot_triangulated.obj", "spot_texture.png", {}},
+      // Textured as `polder simplify` reads it: split along its UV seams, which `collapse`
+      // moves in pairs and `cluster` keeps.
+      {"spot-uv", "spot_triangulated.obj", "", {}, true},
   };
   nlohmann::json report;
   report["data_dir"] = dataDir;
@@ -330,6 +334,7 @@ int main(int argc, char** argv) {
   for (Model& model : models) {
     polder::mesh_io::MeshReadOptions options;
     if (!model.texture.empty()) options.bakeTexture = meshes / model.texture;
+    options.keepUvSeams = model.keepUvSeams;
     model.mesh = check(polder::mesh_io::readMesh(meshes / model.file, options), model.file);
     std::printf("%-8s %-32s %9zu %9zu  %s%s%s%s\n", model.name.c_str(), model.file.c_str(), model.mesh.vertexCount(),
                 model.mesh.triangleCount(), model.mesh.hasNormals() ? "normals " : "",

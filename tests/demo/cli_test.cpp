@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
@@ -269,6 +270,77 @@ TEST(PolderSimplify, WritesTheMeshAndTheDocumentedReport) {
       EXPECT_LE(report["rms"].get<double>(), report["hausdorff"].get<double>());
       EXPECT_TRUE(std::filesystem::exists(out));
     }
+  }
+}
+
+// The same sphere's shape with texture coordinates (u around) and a seam where u wraps
+// from 1 back to 0: the seam's vertices are written once, their corners carry u = 0 east of
+// the seam and u = 1 west of it.
+std::string writeSeamedSphereObj(const ScratchDir& dir) {
+  const std::string path = dir.file("seamed.obj").string();
+  std::ofstream obj(path);
+  const int rings = 24, segments = 32;
+  const double pi = 3.14159265358979;
+  obj << "v 0 0 1\nvt 0.5 1\n";
+  for (int r = 1; r < rings; ++r) {
+    for (int s = 0; s < segments; ++s) {
+      const double theta = pi * r / rings, phi = 2 * pi * s / segments;
+      const double radius = 1.0 + 0.05 * std::sin(5 * phi) * std::sin(3 * theta);
+      obj << "v " << radius * std::sin(theta) * std::cos(phi) << " " << radius * std::sin(theta) * std::sin(phi) << " "
+          << radius * std::cos(theta) << "\n";
+    }
+    for (int s = 0; s <= segments; ++s) obj << "vt " << double(s) / segments << " " << 1.0 - double(r) / rings << "\n";
+  }
+  obj << "v 0 0 -1\nvt 0.5 0\n";
+  auto corner = [&](int r, int s) {  // "v/vt" of ring r (1 ... rings - 1), segment s (0 ... segments)
+    return std::to_string(2 + (r - 1) * segments + s % segments) + "/" + std::to_string(2 + (r - 1) * (segments + 1) + s);
+  };
+  const std::string north = "1/1", south = std::to_string(2 + (rings - 1) * segments) + "/" +
+                                           std::to_string(2 + (rings - 1) * (segments + 1));
+  for (int s = 0; s < segments; ++s) obj << "f " << north << " " << corner(1, s) << " " << corner(1, s + 1) << "\n";
+  for (int r = 1; r + 1 < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      obj << "f " << corner(r, s) << " " << corner(r + 1, s) << " " << corner(r + 1, s + 1) << "\n";
+      obj << "f " << corner(r, s) << " " << corner(r + 1, s + 1) << " " << corner(r, s + 1) << "\n";
+    }
+  for (int s = 0; s < segments; ++s) obj << "f " << south << " " << corner(rings - 1, s + 1) << " " << corner(rings - 1, s) << "\n";
+  return path;
+}
+
+// Positions of a written OBJ that carry more than one texture coordinate (the writer gives
+// vertex i the i-th v and vt lines).
+std::size_t splitPositions(const std::string& objPath) {
+  std::ifstream in(objPath);
+  std::vector<std::string> positions, uvs;
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream fields(line);
+    std::string tag, x, y, z;
+    fields >> tag >> x >> y;
+    if (tag == "v" && fields >> z) positions.push_back(x + " " + y + " " + z);
+    if (tag == "vt") uvs.push_back(x + " " + y);
+  }
+  std::map<std::string, std::set<std::string>> uvsAt;
+  for (std::size_t i = 0; i < positions.size() && i < uvs.size(); ++i) uvsAt[positions[i]].insert(uvs[i]);
+  std::size_t split = 0;
+  for (const auto& [position, coordinates] : uvsAt) split += coordinates.size() > 1;
+  return split;
+}
+
+TEST(PolderSimplify, KeepsTextureSeamsClosedUnlessAskedToWeldThem) {
+  ScratchDir dir;
+  const std::string input = writeSeamedSphereObj(dir);
+  for (const std::string weld : {"", " --weld-uv-seams"}) {
+    const std::string out = dir.file("seamed-out.obj").string(), json = dir.file("seamed.json").string();
+    const ProgramRun run = runPolder("simplify " + input + " --triangles 300 --samples 20000 --out " + out +
+                                     " --json " + json + weld);
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    std::ifstream in(json);
+    const auto report = nlohmann::json::parse(in);
+    EXPECT_EQ(report["open_edges_added"], 0) << weld;
+    EXPECT_LE(report["output_triangles"].get<int>(), 300) << weld;
+    EXPECT_LT(report["hausdorff"].get<double>(), 0.1) << weld;
+    if (weld.empty()) EXPECT_GT(splitPositions(out), 4u) << "the seam keeps both sides' coordinates";
+    else EXPECT_EQ(splitPositions(out), 0u);
   }
 }
 

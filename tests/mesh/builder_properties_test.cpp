@@ -148,9 +148,10 @@ TEST_P(BuilderProperties, OpenBoundaryStaysOnTheOriginalOutline) {
 }
 
 TEST_P(BuilderProperties, StepsDoNotDependOnTheInputsNumbering) {
-  // The same coloured surface cut into regions, with its vertices renumbered, its triangles
-  // reordered and their corners turned: the same steps, renamed, with the same errors.
-  TriangleMesh sphere = test::bumpySphere(16, 20);
+  // The same coloured surface (with a texture seam) cut into regions, with its vertices
+  // renumbered, its triangles reordered and their corners turned: the same steps, renamed,
+  // with the same errors.
+  TriangleMesh sphere = test::seamedSphere(16, 20);
   for (const glm::vec3& p : sphere.positions)
     sphere.colours.emplace_back(p.x > 0.3f ? 1.0f : 0.2f, 0.5f + 0.4f * p.z, 0.3f, 1.0f);
   const RegionPartition partition = automaticPartition(sphere.positions, 4);
@@ -162,10 +163,12 @@ TEST_P(BuilderProperties, StepsDoNotDependOnTheInputsNumbering) {
   TriangleMesh shuffled;
   shuffled.positions.resize(sphere.vertexCount());
   shuffled.colours.resize(sphere.vertexCount());
+  shuffled.uvs.resize(sphere.vertexCount());
   RegionPartition shuffledPartition{partition.regionCount, std::vector<std::uint32_t>(sphere.vertexCount())};
   for (std::uint32_t v = 0; v < sphere.vertexCount(); ++v) {
     shuffled.positions[newId[v]] = sphere.positions[v];
     shuffled.colours[newId[v]] = sphere.colours[v];
+    shuffled.uvs[newId[v]] = sphere.uvs[v];
     shuffledPartition.vertexRegion[newId[v]] = partition.vertexRegion[v];
   }
   std::vector<std::uint32_t> triangleOrder(sphere.triangleCount());
@@ -184,13 +187,54 @@ TEST_P(BuilderProperties, StepsDoNotDependOnTheInputsNumbering) {
     ASSERT_EQ(newId[original->representative[s]], renumbered->representative[s]) << "step " << s;
     ASSERT_EQ(original->error[s], renumbered->error[s]) << "step " << s;
     const auto a = original->removedBy(s), b = renumbered->removedBy(s);
+    const auto aOnto = original->ontoBy(s), bOnto = renumbered->ontoBy(s);
     ASSERT_EQ(a.size(), b.size()) << "step " << s;
-    std::vector<std::uint32_t> renamed;
-    for (std::uint32_t v : a) renamed.push_back(newId[v]);
-    std::vector<std::uint32_t> other(b.begin(), b.end());
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> renamed, other;
+    for (std::size_t i = 0; i < a.size(); ++i) renamed.emplace_back(newId[a[i]], newId[aOnto[i]]);
+    for (std::size_t i = 0; i < b.size(); ++i) other.emplace_back(b[i], bOnto[i]);
     std::sort(renamed.begin(), renamed.end());
     std::sort(other.begin(), other.end());
     ASSERT_EQ(renamed, other) << "step " << s;
+  }
+}
+
+// A texture seam splits the surface's vertices in two along a line; whatever levels the
+// regions take, the two sides still meet (the surface, welded by position, stays closed),
+// with no sliver left between them, and every corner keeps its own side's UVs. Collapse
+// moves the seam's twins together, so the seam coarsens too; cluster keeps the seam.
+TEST_P(BuilderProperties, TextureSeamNeverOpens) {
+  const TriangleMesh sphere = test::seamedSphere(18, 24);
+  const std::uint32_t seamVertices = 2 * (18 - 1);
+  for (std::uint32_t regions : {1u, 6u}) {
+    const RegionPartition partition = regions == 1 ? singleRegion() : automaticPartition(sphere.positions, regions);
+    const ProgressiveMesh pm = progressive(sphere, partition);
+    const auto& positions = pm.vertices().positions;
+    std::mt19937 random(regions);
+    ProgressiveMeshInstance instance(pm);
+    for (int trial = 0; trial < 40; ++trial) {
+      for (std::uint32_t r = 0; r < pm.regionCount(); ++r) {
+        const std::uint32_t levels = pm.region(r).levelCount();
+        instance.setLevel(r, trial == 0 ? 0 : std::uniform_int_distribution<std::uint32_t>(0, levels)(random));
+      }
+      instance.resolveBorders();
+      const auto welded = test::weldedByPosition(drawnIndices(instance), positions);
+      ASSERT_EQ(openEdgeCount(welded), 0u) << regions << " regions, trial " << trial;
+      for (std::size_t t = 0; t < welded.size(); t += 3)
+        ASSERT_TRUE(welded[t] != welded[t + 1] && welded[t + 1] != welded[t + 2] && welded[t] != welded[t + 2])
+            << regions << " regions, trial " << trial << ": a sliver between the seam's sides";
+    }
+    for (std::uint32_t v = 0; v < pm.vertices().vertexCount(); ++v)
+      ASSERT_EQ(pm.vertices().uvs[v], sphere.uvs[pm.originalVertex()[v]]);
+    if (regions > 1) continue;
+    // Seam vertices left at the base level.
+    instance.setLevel(0, 0);
+    std::uint32_t seamLeft = 0;
+    for (std::uint32_t v = 0; v < pm.region(0).verticesAt(0); ++v) {
+      const glm::vec3 p = positions[v];
+      seamLeft += p.y == 0.0f && p.x > 0.0f;
+    }
+    if (GetParam().name == "collapse") EXPECT_LT(seamLeft, seamVertices / 3) << "the seam should coarsen";
+    else EXPECT_EQ(seamLeft, seamVertices) << "cluster keeps the seam";
   }
 }
 

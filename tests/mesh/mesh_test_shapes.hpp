@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "polder/mesh/triangle_mesh.hpp"
 
@@ -49,6 +50,40 @@ inline mesh::TriangleMesh bumpySphere(std::uint32_t rings, std::uint32_t segment
     }
   for (std::uint32_t s = 0; s < segments; ++s)
     m.indices.insert(m.indices.end(), {south, ringVertex(rings - 1, s + 1), ringVertex(rings - 1, s)});
+  return m;
+}
+
+// bumpySphere with texture coordinates (u around, v down from the north pole) and a seam
+// where u wraps: the vertices at phi = 0 come twice, u = 0 for the triangles east of the
+// seam and u = 1 for those west of it. The poles, where the seam ends, come once.
+inline mesh::TriangleMesh seamedSphere(std::uint32_t rings, std::uint32_t segments) {
+  mesh::TriangleMesh m = bumpySphere(rings, segments);
+  const auto original = static_cast<std::uint32_t>(m.vertexCount());
+  const std::uint32_t south = original - 1;
+  m.uvs.resize(original);
+  m.uvs[0] = {0.5f, 0.0f};
+  m.uvs[south] = {0.5f, 1.0f};
+  for (std::uint32_t r = 1; r < rings; ++r)
+    for (std::uint32_t s = 0; s < segments; ++s)
+      m.uvs[1 + (r - 1) * segments + s] = {float(s) / float(segments), float(r) / float(rings)};
+  // The west copies of the seam vertices, and the westernmost triangles moved onto them.
+  std::vector<std::uint32_t> westCopy(original, 0);
+  for (std::uint32_t r = 1; r < rings; ++r) {
+    const std::uint32_t v = 1 + (r - 1) * segments;
+    westCopy[v] = static_cast<std::uint32_t>(m.vertexCount());
+    m.positions.push_back(m.positions[v]);
+    m.uvs.push_back({1.0f, m.uvs[v].y});
+  }
+  for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+    bool west = false;  // a corner in the last segment
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = m.indices[3 * t + k];
+      west |= v != 0 && v != south && (v - 1) % segments == segments - 1;
+    }
+    if (!west) continue;
+    for (int k = 0; k < 3; ++k)
+      if (const std::uint32_t v = m.indices[3 * t + k]; westCopy[v] != 0) m.indices[3 * t + k] = westCopy[v];
+  }
   return m;
 }
 

@@ -139,6 +139,28 @@ TEST(ProgressiveMesh, RejectsStepsThatBreakTheRules) {
   ASSERT_FALSE(result.ok());
   EXPECT_NE(result.error().message.find("two regions"), std::string::npos);
 
+  // A vertex may only go onto an active vertex of its region that stays in the step.
+  SimplificationSteps ontoRemoved;
+  const std::uint32_t first[1] = {1}, second[2] = {2, 3}, ontoFirst[2] = {0, 1};
+  ontoRemoved.add(0, first, 0.1f);
+  ontoRemoved.add(0, second, ontoFirst, 0.2f);
+  result = ProgressiveMesh::assemble(grid, singleRegion(), ontoRemoved);
+  ASSERT_FALSE(result.ok());
+  EXPECT_NE(result.error().message.find("goes onto vertex 1, which is not active"), std::string::npos)
+      << result.error().message;
+  SimplificationSteps ontoRemovedTogether;
+  const std::uint32_t pair[2] = {2, 1}, ontoEachOther[2] = {1, 0};
+  ontoRemovedTogether.add(0, pair, ontoEachOther, 0.1f);
+  result = ProgressiveMesh::assemble(grid, singleRegion(), ontoRemovedTogether);
+  ASSERT_FALSE(result.ok());
+  EXPECT_NE(result.error().message.find("removed and takes a place"), std::string::npos) << result.error().message;
+  SimplificationSteps ontoFar;
+  const std::uint32_t near[1] = {1}, far[1] = {4};
+  ontoFar.add(0, near, far, 0.1f);
+  result = ProgressiveMesh::assemble(grid, two, ontoFar);
+  ASSERT_FALSE(result.ok());
+  EXPECT_NE(result.error().message.find("two regions"), std::string::npos);
+
   SimplificationSteps outOfRange;
   const std::uint32_t missing[1] = {999};
   outOfRange.add(0, missing, 0.1f);

@@ -54,10 +54,18 @@ TEST(SharedMeshes, SpotWithBakedTexture) {
     EXPECT_EQ(colour.a, 1.0f);  // an RGB texture
   }
 
-  // Without welding the UV seams stay split: more vertices, the same triangles.
+  // Keeping the UV seams splits the 277 positions where texture coordinates meet: 259
+  // vertices come twice and 18 (where seams cross) three times, each with its own side's
+  // coordinate, and the triangles stay.
+  options.keepUvSeams = true;
+  const mesh::TriangleMesh seamed = readMeshOk(file, options);
+  EXPECT_EQ(seamed.vertexCount(), 2930u + 277u + 18u);
+  EXPECT_EQ(seamed.triangleCount(), 5856u);
+
+  // Without welding the UV seams stay split too.
   options.weldPositions = false;
   const mesh::TriangleMesh unwelded = readMeshOk(file, options);
-  EXPECT_GT(unwelded.vertexCount(), 2930u);
+  EXPECT_GE(unwelded.vertexCount(), seamed.vertexCount());
   EXPECT_EQ(unwelded.triangleCount(), 5856u);
 }
 

@@ -3,6 +3,7 @@
 // with the triangles around each vertex.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -56,6 +57,24 @@ inline void collectTriangleFans(const TriangleMesh& mesh, std::vector<std::uint3
   for (std::size_t v = 0; v < fans.size(); ++v) fans[v].reserve(fanSize[v]);
   for (std::uint32_t t = 0; t < corners.size() / 3; ++t)
     for (int k = 0; k < 3; ++k) fans[corners[3 * t + k]].push_back(t);
+}
+
+// Per vertex, the one other vertex at its bit-identical position (its twin across a texture
+// seam, where the surface's vertices are split because their UVs differ), kNoTwin where
+// it has none, kManyTwins where three or more share the position. The builders run on the
+// locality-ordered copy, where vertices at one position are consecutive (locality_order.hpp
+// orders equal Morton codes by position), so one pass over the numbering finds them.
+inline constexpr std::uint32_t kNoTwin = 0xffffffffu, kManyTwins = 0xfffffffeu;
+inline std::vector<std::uint32_t> positionTwins(const std::vector<glm::vec3>& positions) {
+  const auto count = static_cast<std::uint32_t>(positions.size());
+  std::vector<std::uint32_t> twin(count, kNoTwin);
+  for (std::uint32_t first = 0, end; first < count; first = end) {
+    end = first + 1;
+    while (end < count && positions[end] == positions[first]) ++end;
+    if (end - first == 2) twin[first] = first + 1, twin[first + 1] = first;
+    else if (end - first > 2) std::fill(twin.begin() + first, twin.begin() + end, kManyTwins);
+  }
+  return twin;
 }
 
 }  // namespace polder::mesh

@@ -46,7 +46,7 @@ enum class VertexClass : std::uint8_t {
   Boundary,   // on one open boundary that runs straight on: joins along the boundary
   SharpEdge,  // on one feature line (one or two sharp edges): joins along that line
   Corner,     // three or more sharp edges, a sharp turn, a boundary meeting a crease: stays
-  Complex,    // non-manifold or isolated: stays
+  Complex,    // non-manifold, isolated or split by a texture seam: stays
 };
 
 // Features cost more to gather, so they go last (the seed's class weights).
@@ -123,6 +123,7 @@ class ClusterBuilder {
     if (m_liveTriangles == 0) return steps;
     steps.representative.reserve(m_vertexCount / 2);
     steps.removed.reserve(m_vertexCount);
+    steps.onto.reserve(m_vertexCount);
     steps.removedBegin.reserve(m_vertexCount / 2 + 1);
     steps.error.reserve(m_vertexCount / 2);
     const std::size_t reportEvery = std::max<std::size_t>(1, m_vertexCount / 64);
@@ -357,6 +358,11 @@ class ClusterBuilder {
         else m_class[v] = VertexClass::Corner;
       }
     }
+    // A vertex split across a texture seam (another vertex at its position) stays, with its
+    // twin: gathering either alone would part the seam's two sides.
+    const std::vector<std::uint32_t> twin = positionTwins(m_mesh.positions);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v)
+      if (twin[v] != kNoTwin) m_class[v] = VertexClass::Complex;
     labelLines(sharpEdges);
     return meanEdge;
   }

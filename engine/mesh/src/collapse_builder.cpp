@@ -80,12 +80,17 @@ class CollapseBuilder {
     SimplificationSteps steps;
     steps.representative.reserve(m_vertexCount);
     steps.removed.reserve(m_vertexCount);
+    steps.onto.reserve(m_vertexCount);
     steps.removedBegin.reserve(m_vertexCount + 1);
     steps.error.reserve(m_vertexCount);
     while (!m_queue.empty() && m_liveTriangles > m_options.stopAtTriangles) {
       const std::uint32_t v = m_queue.top();
       m_queue.remove(v);
       const std::uint32_t u = m_vertex[v].target;
+      if (m_twin[v] != kNoTwin) {
+        if (!collapseSeam(v, u, steps)) updateCandidate(v, /*validate=*/true);
+        continue;
+      }
       // Candidates are costed without the validity checks; check the cheapest now, and if it
       // fails, queue v's cheapest valid option instead.
       if (!m_vertex[u].alive || !collapseIsValid(v, u)) {
@@ -131,7 +136,9 @@ class CollapseBuilder {
       m_vertex[v].areaScale = areaScaleOf(quadric[v]);
     }
     m_slot.assign(m_vertexCount, 0);
+    m_twin = positionTwins(m_mesh.positions);
     for (std::uint32_t v = 0; v < m_vertexCount; ++v) classify(v);
+    pairSeamTwins();
     m_queue = IndexedMinHeap(m_vertexCount);
   }
 
@@ -241,6 +248,69 @@ class CollapseBuilder {
         if (coloursDiffer(v, n.vertex)) m_vertex[v].colourBorder = true;
   }
 
+  // A vertex split across a texture seam has a twin at its position on the seam's other
+  // side; both are border vertices of the split surface, and the two move together, each
+  // along its own side (collapseSeam). Twins in any other arrangement, and positions held
+  // by three or more vertices, stay put, so the surface never parts where they meet.
+  // (m_twin holds positionTwins, found before classify for the seams' boundary planes.)
+  void pairSeamTwins() {
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
+      const std::uint32_t twin = m_twin[v];
+      if (twin == kNoTwin) continue;
+      const bool seam = twin != kManyTwins && m_vertex[v].kind == VertexKind::Border &&
+                        m_vertex[twin].kind == VertexKind::Border &&
+                        m_partition.regionOf(v) == m_partition.regionOf(twin);
+      if (seam) continue;
+      m_vertex[v].kind = VertexKind::Locked;
+      m_twin[v] = kNoTwin;
+      if (twin != kManyTwins) {
+        m_vertex[twin].kind = VertexKind::Locked;
+        m_twin[twin] = kNoTwin;
+      }
+    }
+  }
+
+  // Where seam vertex v's twin goes when v goes onto its boundary neighbour u: onto u's
+  // twin, or onto u itself where the seam ends at u; either must lie across a boundary
+  // edge from the twin, or the seam does not run on along u and the move is refused (kNone).
+  std::uint32_t seamPartner(std::uint32_t v, std::uint32_t u) {
+    const std::uint32_t twin = m_twin[v];
+    if (u == twin) return kNone;
+    const std::uint32_t wanted = m_twin[u] != kNoTwin ? m_twin[u] : u;
+    gatherNeighbours(twin, m_twinNeighbours);
+    for (const Neighbour& n : m_twinNeighbours)
+      if (n.vertex == wanted && n.sharedTriangles == 1 && wanted != v && mayJoin(twin, wanted)) return wanted;
+    return kNone;
+  }
+
+  // Whether v may go onto u now, with its twin where it has one.
+  bool moveIsValid(std::uint32_t v, std::uint32_t u) {
+    if (!collapseIsValid(v, u)) return false;
+    if (m_twin[v] == kNoTwin) return true;
+    const std::uint32_t partner = seamPartner(v, u);
+    return partner != kNone && collapseIsValid(m_twin[v], partner);
+  }
+
+  // Takes seam vertex v's queued move onto u together with its twin's, as one step, if both
+  // are valid; false otherwise.
+  bool collapseSeam(std::uint32_t v, std::uint32_t u, SimplificationSteps& steps) {
+    if (!m_vertex[u].alive || !moveIsValid(v, u)) return false;
+    const std::uint32_t twin = m_twin[v], partner = seamPartner(v, u);
+    collapse(v, u);
+    m_seamRing.assign(m_ring.begin(), m_ring.end());
+    collapse(twin, partner);
+    const std::uint32_t removed[2] = {v, twin}, onto[2] = {u, partner};
+    steps.add(u, removed, onto, std::max(clusterError(u), clusterError(partner)));
+    // Seam vertices around either side were re-costed while the other side still had its
+    // old shape: cost them again.
+    m_seamRing.insert(m_seamRing.end(), m_ring.begin(), m_ring.end());
+    m_seamRing.push_back(u);
+    m_seamRing.push_back(partner);
+    for (std::uint32_t x : m_seamRing)
+      if (m_vertex[x].alive && m_twin[x] != kNoTwin) updateCandidate(x, /*validate=*/false);
+    return true;
+  }
+
   // Whether v's fan is one chain of consistently wound triangles, each leading through its
   // corner after v to the triangle whose corner before v that is: a cycle through the whole
   // fan (closed), or a path through it from the one triangle nothing leads to (open). Uses
@@ -281,7 +351,8 @@ class CollapseBuilder {
     return glm::dot(d, d) > kColourDiscontinuity * kColourDiscontinuity;
   }
 
-  // Planes through v's boundary edges, perpendicular to their triangle, keep the outline.
+  // Planes through v's boundary edges, perpendicular to their triangle, keep the outline
+  // (and a texture seam's line: the surface's split there is a boundary of each side).
   void addBoundaryPlanes(std::uint32_t v) {
     for (std::uint32_t t : m_fan[v]) {
       for (int k = 0; k < 3; ++k) {
@@ -292,7 +363,10 @@ class CollapseBuilder {
         if (shared == m_neighbours.end() || shared->sharedTriangles != 1) continue;
         const glm::dvec3 &pa = m_vertex[a].position, &pb = m_vertex[b].position;
         const glm::dvec3 faceNormal = glm::cross(pb - pa, m_vertex[m_corner[3 * t + (k + 2) % 3]].position - pa);
-        addBoundaryEdgeQuadric(pa, pb, faceNormal, m_options.boundaryWeight, m_vertex[a].quadric, m_vertex[b].quadric);
+        // Both sides of a texture seam hold its line, and the pair costs as one outline.
+        const bool seam = m_twin[a] != kNoTwin || m_twin[b] != kNoTwin;
+        const double weight = seam ? 0.5 * m_options.boundaryWeight : m_options.boundaryWeight;
+        addBoundaryEdgeQuadric(pa, pb, faceNormal, weight, m_vertex[a].quadric, m_vertex[b].quadric);
       }
     }
   }
@@ -347,9 +421,20 @@ class CollapseBuilder {
       }
     } else {
       gatherNeighbours(v, m_neighbours);
+      std::uint32_t boundaryNeighbour[2], boundaryCount = 0;
       for (const Neighbour& n : m_neighbours)  // a border vertex slides along its boundary
-        if (n.sharedTriangles == 1 && mayJoin(v, n.vertex))
-          m_optionScratch.push_back({collapseCost(v, n.vertex), n.vertex});
+        if (n.sharedTriangles == 1 && mayJoin(v, n.vertex) && boundaryCount < 2)
+          boundaryNeighbour[boundaryCount++] = n.vertex;
+      for (std::uint32_t i = 0; i < boundaryCount; ++i) {
+        const std::uint32_t u = boundaryNeighbour[i];
+        float cost = collapseCost(v, u);
+        if (m_twin[v] != kNoTwin) {  // and its twin along the seam's other side
+          const std::uint32_t partner = seamPartner(v, u);
+          if (partner == kNone) continue;
+          cost += collapseCost(m_twin[v], partner);
+        }
+        m_optionScratch.push_back({cost, u});
+      }
     }
     auto cheaper = [](const Option& x, const Option& y) { return x.cost < y.cost; };
     if (validate) std::sort(m_optionScratch.begin(), m_optionScratch.end(), cheaper);
@@ -357,7 +442,7 @@ class CollapseBuilder {
       std::iter_swap(m_optionScratch.begin(),
                      std::min_element(m_optionScratch.begin(), m_optionScratch.end(), cheaper));
     for (const Option& option : m_optionScratch) {
-      if (validate && !collapseIsValid(v, option.vertex)) continue;
+      if (validate && !moveIsValid(v, option.vertex)) continue;
       state.target = option.vertex;
       m_queue.set(v, option.cost);
       return;
@@ -491,6 +576,9 @@ class CollapseBuilder {
   IndexedMinHeap m_queue{0};  // vertices by the cost of their queued collapse
   std::vector<Neighbour> m_neighbours;
   std::vector<std::uint32_t> m_ring;  // the removed vertex's neighbours
+  std::vector<std::uint32_t> m_twin;  // per vertex: its seam twin (pairSeamTwins), or kNoTwin
+  std::vector<Neighbour> m_twinNeighbours;
+  std::vector<std::uint32_t> m_seamRing;
   std::vector<Option> m_optionScratch;
 };
 

@@ -130,6 +130,7 @@ SimplificationSteps buildInLocalityOrder(const TriangleMesh& mesh, const RegionP
   SimplificationSteps steps = build(ordered.mesh, ordered.partition);
   for (std::uint32_t& v : steps.representative) v = ordered.originalOf[v];
   for (std::uint32_t& v : steps.removed) v = ordered.originalOf[v];
+  for (std::uint32_t& v : steps.onto) v = ordered.originalOf[v];
   return steps;
 }
 

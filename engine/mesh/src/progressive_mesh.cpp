@@ -90,7 +90,7 @@ class ProgressiveMeshAssembler {
   Status checkSteps() {
     const std::size_t vertexCount = m_mesh.vertexCount();
     if (m_steps.removedBegin.size() != m_steps.size() + 1 || m_steps.error.size() != m_steps.size() ||
-        m_steps.removedBegin.back() != m_steps.removed.size())
+        m_steps.removedBegin.back() != m_steps.removed.size() || m_steps.onto.size() != m_steps.removed.size())
       return makeError(ErrorKind::InvalidArgument, "simplification steps: inconsistent array sizes");
     m_removalStep.assign(vertexCount, kNever);
     m_localStep.resize(m_steps.size());
@@ -103,12 +103,22 @@ class ProgressiveMeshAssembler {
       if (rep >= vertexCount) return fail("representative out of range");
       if (m_removalStep[rep] != kNever) return fail("representative " + std::to_string(rep) + " was removed");
       const std::uint32_t region = m_partition.regionOf(rep);
-      for (std::uint32_t v : m_steps.removedBy(s)) {
-        if (v >= vertexCount) return fail("vertex out of range");
-        if (v == rep || m_removalStep[v] != kNever) return fail("vertex " + std::to_string(v) + " is not active");
-        if (m_partition.regionOf(v) != region) return fail("joins vertices of two regions");
+      const auto removed = m_steps.removedBy(s), onto = m_steps.ontoBy(s);
+      for (std::size_t i = 0; i < removed.size(); ++i) {
+        const std::uint32_t v = removed[i], target = onto[i];
+        if (v >= vertexCount || target >= vertexCount) return fail("vertex out of range");
+        if (v == rep || v == target || m_removalStep[v] != kNever)
+          return fail("vertex " + std::to_string(v) + " is not active");
+        if (m_removalStep[target] != kNever)
+          return fail("vertex " + std::to_string(v) + " goes onto vertex " + std::to_string(target) + ", which is not active");
+        if (m_partition.regionOf(v) != region || m_partition.regionOf(target) != region)
+          return fail("joins vertices of two regions");
         m_removalStep[v] = static_cast<std::uint32_t>(s);
       }
+      // A vertex removed by this step cannot take another's place in it.
+      for (std::uint32_t target : onto)
+        if (m_removalStep[target] == s)
+          return fail("vertex " + std::to_string(target) + " is removed and takes a place in one step");
       m_localStep[s] = m_regionStepCount[region]++;
     }
     return {};
@@ -152,13 +162,14 @@ class ProgressiveMeshAssembler {
     m_borderRecorded.resize(m_partition.regionCount);
     m_borderRecordedBegin.assign(m_partition.regionCount, {0});
     for (std::size_t s = 0; s < m_steps.size(); ++s) {
-      const std::uint32_t rep = m_steps.representative[s];
-      const std::uint32_t region = m_partition.regionOf(rep);
+      const std::uint32_t region = m_partition.regionOf(m_steps.representative[s]);
       const std::uint32_t local = m_localStep[s];
       std::vector<RecordedChange>& changes = m_recorded[region];
       const std::size_t changesBefore = changes.size();
       bool anyVanished = false;
-      for (std::uint32_t v : m_steps.removedBy(s)) {
+      const auto removed = m_steps.removedBy(s), onto = m_steps.ontoBy(s);
+      for (std::size_t i = 0; i < removed.size(); ++i) {
+        const std::uint32_t v = removed[i], rep = onto[i];
         // Move v's corners onto rep's list, dropping those of triangles already gone.
         for (std::uint32_t k = m_cornerHead[v], next; k != kNever; k = next) {
           next = m_cornerNext[k];

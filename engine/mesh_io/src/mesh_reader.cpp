@@ -208,7 +208,7 @@ Result<mesh::TriangleMesh> readMeshUnguarded(const std::filesystem::path& file, 
     mesh.colours = std::move(*colours);
   }
   if (options.weldPositions) {
-    detail::weldPositions(mesh);
+    detail::weldPositions(mesh, options.keepUvSeams);
     if (mesh.triangleCount() == 0)
       return named(makeError(ErrorKind::InvalidData, "every triangle is degenerate after welding"));
   }

@@ -84,12 +84,14 @@ void joinIdenticalVertices(mesh::TriangleMesh& mesh) {
   if (groupCount != mesh.vertexCount()) applyGroups(mesh, remap, groupCount, false);
 }
 
-void weldPositions(mesh::TriangleMesh& mesh) {
+void weldPositions(mesh::TriangleMesh& mesh, bool keepUvSeams) {
   std::uint32_t groupCount = 0;
-  const auto remap = groupByKey<3>(mesh.vertexCount(), [&](std::size_t i) {
-    Key<3> key{};
+  const bool byUvs = keepUvSeams && mesh.hasUvs();
+  const auto remap = groupByKey<5>(mesh.vertexCount(), [&](std::size_t i) {
+    Key<5> key{};
     std::size_t at = 0;
     for (int k = 0; k < 3; ++k) put(key, at, mesh.positions[i][k]);
+    for (int k = 0; k < 2; ++k) put(key, at, byUvs ? mesh.uvs[i][k] : 0.0f);
     return key;
   }, groupCount);
   if (groupCount != mesh.vertexCount()) applyGroups(mesh, remap, groupCount, true);

@@ -10,7 +10,8 @@ namespace polder::mesh_io::detail {
 void joinIdenticalVertices(mesh::TriangleMesh& mesh);
 
 // Vertices with bit-identical positions become one (first occurrence's normal and texture
-// coordinate, colours averaged); triangles that then repeat a vertex are dropped.
-void weldPositions(mesh::TriangleMesh& mesh);
+// coordinate, colours averaged), or with keepUvSeams those with equal positions and texture
+// coordinates; triangles that then repeat a vertex are dropped.
+void weldPositions(mesh::TriangleMesh& mesh, bool keepUvSeams);
 
 }  // namespace polder::mesh_io::detail

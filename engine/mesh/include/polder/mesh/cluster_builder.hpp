@@ -10,7 +10,9 @@
 // Vertices are classified once (simple, boundary, sharp edge, corner, complex), and a
 // vertex only joins a representative that keeps its feature: sharp-edge vertices along
 // their feature line, boundary vertices along the boundary, colour-border vertices along
-// their side of the border; corners and non-manifold vertices never join. Knots of sharp
+// their side of the border; corners and non-manifold vertices never join, nor do vertices
+// split along a texture seam (another vertex at the same position), so seams stay closed
+// at full resolution (unlike `collapse`, which moves seam twins in pairs). Knots of sharp
 // edges spanning only a few edge lengths (noise) are no features, and a feature the
 // coarser mesh no longer shows (no sharp edge left around it) relaxes to a simple vertex.
 //

@@ -9,6 +9,9 @@
 // nearly flip a triangle, break the surface's manifold structure (link condition), move a
 // vertex off an open boundary or a non-manifold vertex at all, move a vertex beside a
 // colour discontinuity off that border (colourWeight > 0), or join two regions.
+// A mesh split along texture seams (two vertices at one position, each with its own side's
+// UVs) keeps its seams closed: a seam vertex moves along the seam together with its twin,
+// in one step, each onto its own side's neighbour (SimplificationSteps::onto).
 #pragma once
 
 #include <cstdint>

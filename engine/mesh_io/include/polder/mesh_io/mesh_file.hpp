@@ -18,6 +18,8 @@
 //   - options.weldPositions: vertices with bit-identical positions become one; the first
 //     one's normal and texture coordinate win, colours are averaged. Triangles with a
 //     repeated vertex are then dropped. Without welding every triangle is kept as read.
+//     With options.keepUvSeams, vertices whose texture coordinates differ stay apart: the
+//     texture keeps its seams, and the builders move the two sides of a seam together.
 //   - Normals: the file's (normalised) where present and non-zero, otherwise
 //     mesh::computeVertexNormals of the final triangles (after welding).
 //   - Before Assimp runs, PLY files get a structural walk and OBJ files a checking pass
@@ -49,6 +51,7 @@ namespace polder::mesh_io {
 
 struct MeshReadOptions {
   bool weldPositions = true;
+  bool keepUvSeams = false;  // with weldPositions: weld only vertices with equal texture coordinates
   std::filesystem::path bakeTexture;  // empty: none
 };
 
