@@ -1,6 +1,6 @@
 // What both builders start from: positions scaled to a unit bounding-box diagonal (so
-// weights and tolerances do not depend on the model's units), and the live triangles
-// with the triangles around each vertex.
+// weights and tolerances do not depend on the model's units), the live triangles (whose
+// fans go into a TriangleFans), the corner walks round a fan, and texture-seam twins.
 #pragma once
 
 #include <algorithm>
@@ -39,24 +39,17 @@ inline std::uint32_t cornerBefore(const std::uint32_t* c, std::uint32_t v) {
   return c[0] == v ? c[2] : c[1] == v ? c[0] : c[1];
 }
 
-// The input's triangles without degenerate ones, three corners each, and every vertex's
-// triangles (its fan).
-inline void collectTriangleFans(const TriangleMesh& mesh, std::vector<std::uint32_t>& corners,
-                                std::vector<std::vector<std::uint32_t>>& fans) {
+// The input's triangles without degenerate ones, three corners each.
+inline std::vector<std::uint32_t> liveTriangleCorners(const TriangleMesh& mesh) {
   const std::size_t inputTriangles = mesh.triangleCount();
-  corners.clear();
+  std::vector<std::uint32_t> corners;
   corners.reserve(3 * inputTriangles);
-  std::vector<std::uint32_t> fanSize(mesh.vertexCount(), 0);
   for (std::size_t t = 0; t < inputTriangles; ++t) {
     const std::uint32_t a = mesh.indices[3 * t], b = mesh.indices[3 * t + 1], c = mesh.indices[3 * t + 2];
     if (a == b || b == c || a == c) continue;
     corners.insert(corners.end(), {a, b, c});
-    ++fanSize[a], ++fanSize[b], ++fanSize[c];
   }
-  fans.assign(mesh.vertexCount(), {});
-  for (std::size_t v = 0; v < fans.size(); ++v) fans[v].reserve(fanSize[v]);
-  for (std::uint32_t t = 0; t < corners.size() / 3; ++t)
-    for (int k = 0; k < 3; ++k) fans[corners[3 * t + k]].push_back(t);
+  return corners;
 }
 
 // Per vertex, the one other vertex at its bit-identical position (its twin across a texture

@@ -11,6 +11,7 @@
 #include "indexed_min_heap.hpp"
 #include "locality_order.hpp"
 #include "quadric.hpp"
+#include "triangle_fans.hpp"
 #include "triangle_planes.hpp"
 
 namespace polder::mesh {
@@ -215,7 +216,8 @@ class ClusterBuilder {
     m_cellLimit = 2.0 * std::max(extent.x, std::max(extent.y, extent.z)) + 1e-9;
 
     // Live triangles (degenerate input ones are skipped) and fans.
-    collectTriangleFans(m_mesh, m_corner, m_fan);
+    m_corner = liveTriangleCorners(m_mesh);
+    m_fan.build(m_vertexCount, m_corner);
     const auto triangleCount = static_cast<std::uint32_t>(m_corner.size() / 3);
     m_liveTriangles = triangleCount;
     m_triangleAlive.assign(triangleCount, 1);
@@ -371,7 +373,7 @@ class ClusterBuilder {
   // triangle's corner after v being the next one's corner before v: a consistently wound
   // disk, where two fans pinched together at v make two cycles.
   bool fanIsOneCycle(std::uint32_t v) const {
-    const std::vector<std::uint32_t>& fan = m_fan[v];
+    const std::span<const std::uint32_t> fan = m_fan[v];
     std::size_t length = 0;
     std::uint32_t t = fan.front();
     do {
@@ -763,16 +765,15 @@ class ClusterBuilder {
           // so every fan holds live triangles only.
           for (int k = 0; k < 3; ++k)
             if (const std::uint32_t x = m_corner[3 * t + k]; m_treePoint[x].mark != m_stamp) {
-              std::vector<std::uint32_t>& fan = m_fan[x];
-              if (const auto at = std::find(fan.begin(), fan.end(), t); at != fan.end()) fan.erase(at);
+              m_fan.erase(x, t);
             }
           continue;
         }
         for (int k = 0; k < 3; ++k)
           if (m_corner[3 * t + k] == v) m_corner[3 * t + k] = r;
-        m_fan[r].push_back(t);
+        m_fan.push(r, t);
       }
-      std::vector<std::uint32_t>().swap(m_fan[v]);
+      m_fan.clear(v);
       m_alive[v] = 0;
       m_queue.remove(v);
       m_quadric[r] += m_quadric[v];
@@ -786,8 +787,7 @@ class ClusterBuilder {
   }
 
   void compactFan(std::uint32_t v) {
-    std::vector<std::uint32_t>& fan = m_fan[v];
-    std::erase_if(fan, [&](std::uint32_t t) { return !m_triangleAlive[t]; });
+    m_fan.eraseIf(v, [&](std::uint32_t t) { return !m_triangleAlive[t]; });
   }
 
   // Seed step 6 updates the weights of the representative's neighbours: a corner or
@@ -891,7 +891,7 @@ class ClusterBuilder {
   std::vector<std::uint32_t> m_corner;
   std::vector<std::uint8_t> m_triangleAlive;
   std::uint32_t m_liveTriangles = 0;
-  std::vector<std::vector<std::uint32_t>> m_fan;  // live triangles only (gather drops the dead)
+  TriangleFans m_fan;  // live triangles only (gather drops the dead)
   std::vector<Quadric> m_quadric;                 // per vertex: the planes of its cluster
   bool m_useColours = false;
   std::vector<glm::dvec3> m_colour;  // RGB times colourWeight

@@ -10,6 +10,7 @@
 #include "indexed_min_heap.hpp"
 #include "locality_order.hpp"
 #include "quadric.hpp"
+#include "triangle_fans.hpp"
 #include "triangle_planes.hpp"
 
 namespace polder::mesh {
@@ -114,7 +115,8 @@ class CollapseBuilder {
     const std::vector<glm::dvec3>& position = normalized.positions;
 
     // Live triangles (degenerate input ones are skipped) and fans.
-    collectTriangleFans(m_mesh, m_corner, m_fan);
+    m_corner = liveTriangleCorners(m_mesh);
+    m_fan.build(m_vertexCount, m_corner);
     const auto triangleCount = static_cast<std::uint32_t>(m_corner.size() / 3);
     m_liveTriangles = triangleCount;
 
@@ -316,7 +318,7 @@ class CollapseBuilder {
   // fan (closed), or a path through it from the one triangle nothing leads to (open). Uses
   // the slots of the neighbours just gathered.
   bool fanIsOneChain(std::uint32_t v, bool closed) {
-    const std::vector<std::uint32_t>& fan = m_fan[v];
+    const std::span<const std::uint32_t> fan = m_fan[v];
     m_chainFrom.assign(m_neighbours.size(), kNone);  // neighbour slot -> fan entry it starts
     for (std::uint32_t i = 0; i < fan.size(); ++i) {
       std::uint32_t& from = m_chainFrom[m_slot[cornerBefore(&m_corner[3 * fan[i]], v)]];
@@ -497,14 +499,6 @@ class CollapseBuilder {
     return common == edgeTriangles;
   }
 
-  void dropFromFan(std::uint32_t x, std::uint32_t t) {
-    std::vector<std::uint32_t>& fan = m_fan[x];
-    if (const auto at = std::find(fan.begin(), fan.end(), t); at != fan.end()) {
-      *at = fan.back();
-      fan.pop_back();
-    }
-  }
-
   void collapse(std::uint32_t v, std::uint32_t u) {
     // v's neighbours (its ring) are gathered on the way through its fan.
     m_ring.clear();
@@ -520,14 +514,14 @@ class CollapseBuilder {
         // The edge's triangles vanish: out of the fans of u and of their third corner.
         --m_liveTriangles;
         for (int k = 0; k < 3; ++k)
-          if (c[k] != v) dropFromFan(c[k], t);
+          if (c[k] != v) m_fan.swapErase(c[k], t);
         continue;
       }
       for (int k = 0; k < 3; ++k)
         if (c[k] == v) c[k] = u;
-      m_fan[u].push_back(t);
+      m_fan.push(u, t);
     }
-    std::vector<std::uint32_t>().swap(m_fan[v]);
+    m_fan.clear(v);
     m_vertex[v].alive = false;
     m_queue.remove(v);
     m_vertex[u].quadric += m_vertex[v].quadric;
@@ -564,7 +558,7 @@ class CollapseBuilder {
   double m_tieBreakScale = 0.0;  // kShorterEdgeFirst x mean squared edge length
   std::vector<std::uint32_t> m_corner;
   std::uint32_t m_liveTriangles = 0;
-  std::vector<std::vector<std::uint32_t>> m_fan;  // each vertex's live triangles
+  TriangleFans m_fan;  // each vertex's live triangles
   int m_dims = 0;
   std::vector<double> m_attribute;  // per vertex, m_dims weighted values
   std::vector<double> m_moment0, m_moment1, m_moment2;
