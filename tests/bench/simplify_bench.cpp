@@ -319,8 +319,8 @@ int main(int argc, char** argv) {
       {"cow", "cow.obj", "", {}},
       {"fandisk", "fandisk.obj", "", {}},
       {"spot", "spot_triangulated.obj", "spot_texture.png", {}},
-      // Textured as `polder simplify` reads it: split along its UV seams, which `collapse`
-      // moves in pairs and `cluster` keeps.
+      // Textured as `polder simplify` reads it: split along its UV seams, which both
+      // builders move in pairs.
       {"spot-uv", "spot_triangulated.obj", "", {}, true},
   };
   nlohmann::json report;

@@ -45,15 +45,17 @@ constexpr double kCompactness = 1e-6;
 enum class VertexClass : std::uint8_t {
   Simple,     // interior and smooth: joins any representative
   Boundary,   // on one open boundary that runs straight on: joins along the boundary
+  Seam,       // a boundary vertex split by a texture seam: joins along the seam, its twin too
   SharpEdge,  // on one feature line (one or two sharp edges): joins along that line
   Corner,     // three or more sharp edges, a sharp turn, a boundary meeting a crease: stays
-  Complex,    // non-manifold, isolated or split by a texture seam: stays
+  Complex,    // non-manifold, isolated, or where a seam splits it other than in two: stays
 };
 
 // Features cost more to gather, so they go last (the seed's class weights).
 double classWeight(VertexClass c) {
   switch (c) {
     case VertexClass::Boundary:
+    case VertexClass::Seam:
     case VertexClass::SharpEdge: return 2.0;
     default: return 1.0;
   }
@@ -139,9 +141,17 @@ class ClusterBuilder {
     std::uint32_t r = 0;
     while (m_liveTriangles > m_options.stopAtTriangles && nextRepresentative(r)) {
       gather(r);
-      steps.add(r, m_members, m_error);
+      if (m_rTwin == kNone) {
+        steps.add(r, m_members, m_error);
+      } else {
+        m_targets.resize(m_members.size());
+        for (std::size_t i = 0; i < m_members.size(); ++i) m_targets[i] = targetOf(i, r);
+        steps.add(r, m_members, m_targets, m_error);
+      }
       removedCount += m_members.size();
+      const std::uint32_t rTwin = m_rTwin;  // evaluations below overwrite it
       updateNeighbourhood(r);
+      if (rTwin != kNone) updateNeighbourhood(rTwin);
       if (m_options.progress && removedCount >= nextReport) {
         m_options.progress(double(removedCount) / double(m_vertexCount));
         nextReport = removedCount + reportEvery;
@@ -360,13 +370,33 @@ class ClusterBuilder {
         else m_class[v] = VertexClass::Corner;
       }
     }
-    // A vertex split across a texture seam (another vertex at its position) stays, with its
-    // twin: gathering either alone would part the seam's two sides.
-    const std::vector<std::uint32_t> twin = positionTwins(m_mesh.positions);
-    for (std::uint32_t v = 0; v < m_vertexCount; ++v)
-      if (twin[v] != kNoTwin) m_class[v] = VertexClass::Complex;
+    classifySeams();
     labelLines(sharpEdges);
     return meanEdge;
+  }
+
+  // A vertex split across a texture seam has a twin at its position on the seam's other
+  // side. Where both are boundary vertices of the split surface (the seam runs straight on
+  // through them) they are Seam vertices, which move together (addTwins); twins in any
+  // other arrangement, and positions held by three or more vertices, stay put, since
+  // gathering one alone would part the seam's sides.
+  void classifySeams() {
+    m_twin = positionTwins(m_mesh.positions);
+    std::vector<std::uint8_t> paired(m_vertexCount, 0);
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
+      const std::uint32_t twin = m_twin[v];
+      paired[v] = twin < m_vertexCount && m_class[v] == VertexClass::Boundary &&
+                  m_class[twin] == VertexClass::Boundary && m_partition.regionOf(v) == m_partition.regionOf(twin);
+    }
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
+      if (m_twin[v] == kNoTwin) continue;
+      if (paired[v]) {
+        m_class[v] = VertexClass::Seam;
+      } else {
+        m_class[v] = VertexClass::Complex;
+        m_twin[v] = kNoTwin;
+      }
+    }
   }
 
   // Whether v's triangles (every edge at v run both ways) make one cycle around it, each
@@ -434,6 +464,7 @@ class ClusterBuilder {
   bool evaluate(std::uint32_t r, Evaluation evaluation) {
     for (;;) {
       growTree(r, m_cell[r], evaluation != Evaluation::FirstRing);
+      addTwins(r);
       scoreMembers(r);
       dropCostlyMembers();
       if (!m_members.empty() && (evaluation != Evaluation::CheckedTree || validateCluster(r))) break;
@@ -475,6 +506,7 @@ class ClusterBuilder {
     m_members.clear();
     m_parent.clear();
     m_cellLeftOut = false;
+    m_seamRoot = m_class[r] == VertexClass::Seam;
     const glm::vec3 centre = point[r].position;
     const auto half = static_cast<float>(0.5 * tau);
     const std::uint32_t region = m_partition.regionOf(r);
@@ -532,6 +564,12 @@ class ClusterBuilder {
       case VertexClass::Simple: break;
       case VertexClass::Boundary:
         if (!isBoundaryEdge(p, x)) return false;
+        break;
+      case VertexClass::Seam:
+        // Only onto a seam representative, which takes the twin too: so neither r's twin
+        // nor a member's may be in the tree itself (around the seam's end, where its two
+        // sides meet, the tree could reach them).
+        if (!m_seamRoot || m_treePoint[m_twin[x]].mark == m_stamp || !isBoundaryEdge(p, x)) return false;
         break;
       case VertexClass::SharpEdge:
         if (!onSameLine(p, x)) return false;
@@ -594,12 +632,47 @@ class ClusterBuilder {
 
   // A dropped member takes its subtree along, so the cluster stays one tree (parents come
   // before their children in m_members); dropped members lose their mark.
+  // A dropped twin takes its partner (its parent) along too, so seams never part.
   void dropSubtrees() {
-    for (std::size_t i = 0; i < m_members.size(); ++i) {
-      if (!m_dropped[i] && m_parent[i] != kNone && m_dropped[m_parent[i]]) m_dropped[i] = 1;
-      if (m_dropped[i]) m_treePoint[m_members[i]].mark = 0;
+    for (bool partnerDropped = true; partnerDropped;) {
+      partnerDropped = false;
+      for (std::size_t i = 0; i < m_members.size(); ++i)
+        if (!m_dropped[i] && m_parent[i] != kNone && m_dropped[m_parent[i]]) m_dropped[i] = 1;
+      for (std::size_t i = 0; m_rTwin != kNone && i < m_members.size(); ++i)
+        if (m_dropped[i] && isTwinEntry(i) && !m_dropped[m_parent[i]]) m_dropped[m_parent[i]] = 1, partnerDropped = true;
     }
+    for (std::size_t i = 0; i < m_members.size(); ++i)
+      if (m_dropped[i]) m_treePoint[m_members[i]].mark = 0;
   }
+
+  // Whether member i is a seam member's twin (added by addTwins, the partner its parent).
+  bool isTwinEntry(std::size_t i) const {
+    return m_rTwin != kNone && m_parent[i] != kNone && m_twin[m_members[i]] == m_members[m_parent[i]];
+  }
+
+  // Seed step 4 across a texture seam: every seam member's twin joins r's twin, each as its
+  // partner's child in the tree (it goes where its partner goes). r's twin is marked like
+  // r, so the other side's triangles that lose their edge vanish just as r's side's do;
+  // twins share their partners' positions, so costs and checks at r hold for them.
+  void addTwins(std::uint32_t r) {
+    m_rTwin = kNone;
+    if (m_class[r] != VertexClass::Seam) return;
+    const std::size_t treeSize = m_members.size();
+    for (std::size_t i = 0; i < treeSize; ++i) {
+      const std::uint32_t x = m_members[i];
+      if (m_class[x] != VertexClass::Seam) continue;
+      const std::uint32_t twin = m_twin[x];
+      m_treePoint[twin].mark = m_stamp;
+      m_members.push_back(twin);
+      m_parent.push_back(static_cast<std::uint32_t>(i));
+      m_memberIndex[twin] = static_cast<std::uint32_t>(m_members.size() - 1);
+      m_rTwin = m_twin[r];
+    }
+    if (m_rTwin != kNone) m_treePoint[m_rTwin].mark = m_stamp;
+  }
+
+  // Where member i goes: r, or r's twin for a seam member's twin.
+  std::uint32_t targetOf(std::size_t i, std::uint32_t r) const { return isTwinEntry(i) ? m_rTwin : r; }
 
   // The step must not pinch the surface: a vertex x next to the cluster keeps one fan.
   // Its triangles that keep a marked corner all end up on the edge (r, x), so more than
@@ -627,6 +700,7 @@ class ClusterBuilder {
       }
     };
     countTriangles(r);
+    if (m_rTwin != kNone) countTriangles(m_rTwin);
     for (std::size_t i = 0; i < m_members.size(); ++i)
       if (!m_dropped[i]) countTriangles(m_members[i]);
     for (std::uint32_t x : m_touched) {
@@ -639,7 +713,7 @@ class ClusterBuilder {
         if (!m_triangleAlive[t]) continue;
         for (int k = 0; k < 3; ++k) {
           const std::uint32_t y = m_corner[3 * t + k];
-          if (y == r || m_treePoint[y].mark != m_stamp) continue;
+          if (y == r || y == m_rTwin || m_treePoint[y].mark != m_stamp) continue;
           if (last == kNone || m_memberIndex[y] > last) last = m_memberIndex[y];
         }
       }
@@ -755,7 +829,8 @@ class ClusterBuilder {
   // Seed step 4: the members (marked, from the last evaluate(r)) join r; triangles with
   // two or three marked corners vanish, the others are re-pointed at r.
   void gather(std::uint32_t r) {
-    for (std::uint32_t v : m_members) {
+    for (std::size_t i = 0; i < m_members.size(); ++i) {
+      const std::uint32_t v = m_members[i], target = targetOf(i, r);
       for (std::uint32_t t : m_fan[v]) {
         if (!m_triangleAlive[t]) continue;
         if (vanishes(t)) {
@@ -770,20 +845,21 @@ class ClusterBuilder {
           continue;
         }
         for (int k = 0; k < 3; ++k)
-          if (m_corner[3 * t + k] == v) m_corner[3 * t + k] = r;
-        m_fan.push(r, t);
+          if (m_corner[3 * t + k] == v) m_corner[3 * t + k] = target;
+        m_fan.push(target, t);
       }
       m_fan.clear(v);
       m_alive[v] = 0;
       m_queue.remove(v);
-      m_quadric[r] += m_quadric[v];
+      m_quadric[target] += m_quadric[v];
       if (m_useColours) {
-        m_moment0[r] += m_moment0[v];
-        m_moment1[r] += m_moment1[v];
-        m_moment2[r] += m_moment2[v];
+        m_moment0[target] += m_moment0[v];
+        m_moment1[target] += m_moment1[v];
+        m_moment2[target] += m_moment2[v];
       }
     }
-    compactFan(r);  // the only fan that grows: keep it free of dead triangles
+    compactFan(r);  // the only fans that grow: keep them free of dead triangles
+    if (m_rTwin != kNone) compactFan(m_rTwin);
   }
 
   void compactFan(std::uint32_t v) {
@@ -902,6 +978,7 @@ class ClusterBuilder {
   // Every edge at the vertex has two triangles, one running each way (set up, then kept by
   // updateClosedAround).
   std::vector<std::uint8_t> m_closedAround;
+  std::vector<std::uint32_t> m_twin;  // a Seam vertex's twin (classifySeams), else kNoTwin
   std::vector<std::uint32_t> m_line;         // feature line of a sharp-edge vertex
   std::vector<std::uint64_t> m_cornerLines;  // sorted lineKey(corner, line) of lines ending at corners
   std::vector<std::uint8_t> m_alive;
@@ -923,7 +1000,10 @@ class ClusterBuilder {
   std::vector<std::uint32_t> m_newIndex;
   double m_priority = 0.0;
   float m_error = 0.0f;
-  bool m_cellLeftOut = false;  // the last tree's cell left out a vertex it could have reached
+  bool m_cellLeftOut = false;
+  bool m_seamRoot = false;        // the tree being grown is a Seam vertex's
+  std::uint32_t m_rTwin = kNone;
+  std::vector<std::uint32_t> m_targets;  // per member of a step across a seam: targetOf  // the last evaluation's twin target (addTwins), or kNone  // the last tree's cell left out a vertex it could have reached
 };
 
 }  // namespace

@@ -7,14 +7,16 @@
 // never pinches the surface into a non-manifold edge). The representative is an original
 // vertex, so every level uses original vertices only (simplification_steps.hpp).
 //
-// Vertices are classified once (simple, boundary, sharp edge, corner, complex), and a
+// Vertices are classified once (simple, boundary, seam, sharp edge, corner, complex), and a
 // vertex only joins a representative that keeps its feature: sharp-edge vertices along
 // their feature line, boundary vertices along the boundary, colour-border vertices along
-// their side of the border; corners and non-manifold vertices never join, nor do vertices
-// split along a texture seam (another vertex at the same position), so seams stay closed
-// at full resolution (unlike `collapse`, which moves seam twins in pairs). Knots of sharp
-// edges spanning only a few edge lengths (noise) are no features, and a feature the
-// coarser mesh no longer shows (no sharp edge left around it) relaxes to a simple vertex.
+// their side of the border; corners and non-manifold vertices never join. A mesh split
+// along texture seams (two vertices at one position, each with its own side's UVs) keeps
+// its seams closed: a seam vertex joins only a seam representative, along the seam, and
+// its twin joins the representative's twin in the same step (SimplificationSteps::onto).
+// Knots of sharp edges spanning only a few edge lengths (noise) are no features, and a
+// feature the coarser mesh no longer shows (no sharp edge left around it) relaxes to a
+// simple vertex.
 //
 // Cost of a cluster: the quadric error (Garland & Heckbert 1997) of the gathered vertices'
 // planes at the representative plus their area-weighted colour deviation, each scaled by
