@@ -218,30 +218,42 @@ TEST_F(PolderProgram, BenchRejectsBadArguments) {
   }
 }
 
-// A closed, bumpy sphere as an OBJ with vertex colours (red cap, blue rest).
-std::string writeSphereObj(const ScratchDir& dir) {
-  const std::string path = dir.file("sphere.obj").string();
+// A closed, bumpy sphere as an OBJ with vertex colours (red cap, blue rest), or with
+// texture coordinates instead (u around) and a seam where u wraps from 1 back to 0: the
+// seam's vertices are written once, their corners carry u = 0 east of the seam and u = 1
+// west of it.
+std::string writeSphereObj(const ScratchDir& dir, bool uvSeam = false) {
+  const std::string path = dir.file(uvSeam ? "seamed.obj" : "sphere.obj").string();
   std::ofstream obj(path);
   const int rings = 24, segments = 32;
   const double pi = 3.14159265358979;
-  obj << "v 0 0 1 1 0 0\n";
-  for (int r = 1; r < rings; ++r)
+  obj << (uvSeam ? "v 0 0 1\nvt 0.5 1\n" : "v 0 0 1 1 0 0\n");
+  for (int r = 1; r < rings; ++r) {
     for (int s = 0; s < segments; ++s) {
       const double theta = pi * r / rings, phi = 2 * pi * s / segments;
       const double radius = 1.0 + 0.05 * std::sin(5 * phi) * std::sin(3 * theta);
       obj << "v " << radius * std::sin(theta) * std::cos(phi) << " " << radius * std::sin(theta) * std::sin(phi) << " "
-          << radius * std::cos(theta) << (r < rings / 3 ? " 1 0 0" : " 0 0 1") << "\n";
+          << radius * std::cos(theta) << (uvSeam ? "" : r < rings / 3 ? " 1 0 0" : " 0 0 1") << "\n";
     }
-  obj << "v 0 0 -1 0 0 1\n";
-  auto ring = [&](int r, int s) { return 2 + (r - 1) * segments + s % segments; };
-  const int south = 2 + (rings - 1) * segments;
-  for (int s = 0; s < segments; ++s) obj << "f 1 " << ring(1, s) << " " << ring(1, s + 1) << "\n";
+    for (int s = 0; uvSeam && s <= segments; ++s) obj << "vt " << double(s) / segments << " " << 1.0 - double(r) / rings << "\n";
+  }
+  obj << (uvSeam ? "v 0 0 -1\nvt 0.5 0\n" : "v 0 0 -1 0 0 1\n");
+  // "v" or "v/vt" of ring r (1 ... rings - 1), segment s (0 ... segments).
+  auto corner = [&](int r, int s) {
+    const std::string v = std::to_string(2 + (r - 1) * segments + s % segments);
+    return uvSeam ? v + "/" + std::to_string(2 + (r - 1) * (segments + 1) + s) : v;
+  };
+  const std::string south = std::to_string(2 + (rings - 1) * segments);
+  const std::string northCorner = uvSeam ? "1/1" : "1";
+  const std::string southCorner = uvSeam ? south + "/" + std::to_string(2 + (rings - 1) * (segments + 1)) : south;
+  for (int s = 0; s < segments; ++s) obj << "f " << northCorner << " " << corner(1, s) << " " << corner(1, s + 1) << "\n";
   for (int r = 1; r + 1 < rings; ++r)
     for (int s = 0; s < segments; ++s) {
-      obj << "f " << ring(r, s) << " " << ring(r + 1, s) << " " << ring(r + 1, s + 1) << "\n";
-      obj << "f " << ring(r, s) << " " << ring(r + 1, s + 1) << " " << ring(r, s + 1) << "\n";
+      obj << "f " << corner(r, s) << " " << corner(r + 1, s) << " " << corner(r + 1, s + 1) << "\n";
+      obj << "f " << corner(r, s) << " " << corner(r + 1, s + 1) << " " << corner(r, s + 1) << "\n";
     }
-  for (int s = 0; s < segments; ++s) obj << "f " << south << " " << ring(rings - 1, s + 1) << " " << ring(rings - 1, s) << "\n";
+  for (int s = 0; s < segments; ++s)
+    obj << "f " << southCorner << " " << corner(rings - 1, s + 1) << " " << corner(rings - 1, s) << "\n";
   return path;
 }
 
@@ -273,40 +285,6 @@ TEST(PolderSimplify, WritesTheMeshAndTheDocumentedReport) {
   }
 }
 
-// The same sphere's shape with texture coordinates (u around) and a seam where u wraps
-// from 1 back to 0: the seam's vertices are written once, their corners carry u = 0 east of
-// the seam and u = 1 west of it.
-std::string writeSeamedSphereObj(const ScratchDir& dir) {
-  const std::string path = dir.file("seamed.obj").string();
-  std::ofstream obj(path);
-  const int rings = 24, segments = 32;
-  const double pi = 3.14159265358979;
-  obj << "v 0 0 1\nvt 0.5 1\n";
-  for (int r = 1; r < rings; ++r) {
-    for (int s = 0; s < segments; ++s) {
-      const double theta = pi * r / rings, phi = 2 * pi * s / segments;
-      const double radius = 1.0 + 0.05 * std::sin(5 * phi) * std::sin(3 * theta);
-      obj << "v " << radius * std::sin(theta) * std::cos(phi) << " " << radius * std::sin(theta) * std::sin(phi) << " "
-          << radius * std::cos(theta) << "\n";
-    }
-    for (int s = 0; s <= segments; ++s) obj << "vt " << double(s) / segments << " " << 1.0 - double(r) / rings << "\n";
-  }
-  obj << "v 0 0 -1\nvt 0.5 0\n";
-  auto corner = [&](int r, int s) {  // "v/vt" of ring r (1 ... rings - 1), segment s (0 ... segments)
-    return std::to_string(2 + (r - 1) * segments + s % segments) + "/" + std::to_string(2 + (r - 1) * (segments + 1) + s);
-  };
-  const std::string north = "1/1", south = std::to_string(2 + (rings - 1) * segments) + "/" +
-                                           std::to_string(2 + (rings - 1) * (segments + 1));
-  for (int s = 0; s < segments; ++s) obj << "f " << north << " " << corner(1, s) << " " << corner(1, s + 1) << "\n";
-  for (int r = 1; r + 1 < rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      obj << "f " << corner(r, s) << " " << corner(r + 1, s) << " " << corner(r + 1, s + 1) << "\n";
-      obj << "f " << corner(r, s) << " " << corner(r + 1, s + 1) << " " << corner(r, s + 1) << "\n";
-    }
-  for (int s = 0; s < segments; ++s) obj << "f " << south << " " << corner(rings - 1, s + 1) << " " << corner(rings - 1, s) << "\n";
-  return path;
-}
-
 // Positions of a written OBJ that carry more than one texture coordinate (the writer gives
 // vertex i the i-th v and vt lines).
 std::size_t splitPositions(const std::string& objPath) {
@@ -328,7 +306,7 @@ std::size_t splitPositions(const std::string& objPath) {
 
 TEST(PolderSimplify, KeepsTextureSeamsClosedUnlessAskedToWeldThem) {
   ScratchDir dir;
-  const std::string input = writeSeamedSphereObj(dir);
+  const std::string input = writeSphereObj(dir, /*uvSeam=*/true);
   for (const std::string weld : {"", " --weld-uv-seams"}) {
     const std::string out = dir.file("seamed-out.obj").string(), json = dir.file("seamed.json").string();
     const ProgramRun run = runPolder("simplify " + input + " --triangles 300 --samples 20000 --out " + out +

@@ -83,8 +83,9 @@ class TriangleFans {
   }
 
   void clear(std::uint32_t v) {
-    m_record[v].count = 0;
-    std::vector<std::uint32_t>().swap(m_spilled[v]);
+    Record& record = m_record[v];
+    if (record.count > kInline) std::vector<std::uint32_t>().swap(m_spilled[v]);
+    record.count = 0;
   }
 
  private:
