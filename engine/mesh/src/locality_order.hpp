@@ -38,6 +38,21 @@ inline std::uint64_t spreadBits3(std::uint64_t x) {
   return x;
 }
 
+// Sorts (key, id) pairs by key, equal keys in their current order: a least-significant-
+// digit radix sort, a byte per pass (linear, where a comparison sort spent most of the
+// ordering's time). Passes whose byte is the same for every key are skipped.
+inline void radixSortByKey(std::vector<std::pair<std::uint64_t, std::uint32_t>>& items) {
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> scratch(items.size());
+  for (int shift = 0; shift < 64; shift += 8) {
+    std::array<std::uint32_t, 257> start{};
+    for (const auto& item : items) ++start[((item.first >> shift) & 0xff) + 1];
+    if (std::any_of(start.begin() + 1, start.end(), [&](std::uint32_t n) { return n == items.size(); })) continue;
+    for (int b = 0; b < 256; ++b) start[b + 1] += start[b];
+    for (const auto& item : items) scratch[start[(item.first >> shift) & 0xff]++] = item;
+    items.swap(scratch);
+  }
+}
+
 }  // namespace detail
 
 inline LocalityOrdered inLocalityOrder(const TriangleMesh& mesh, const RegionPartition& partition) {
@@ -52,7 +67,7 @@ inline LocalityOrdered inLocalityOrder(const TriangleMesh& mesh, const RegionPar
                                detail::spreadBits3(std::uint64_t(q.z)) << 2;
     order[v] = {code, v};
   }
-  std::sort(order.begin(), order.end());
+  detail::radixSortByKey(order);  // ids ascend, so equal codes stay in id order
   // Vertices closer than the code's resolution: by position, then attributes, so the
   // input's numbering decides only between copies of one vertex.
   auto lexicographic = [](const auto& p, const auto& q) {
