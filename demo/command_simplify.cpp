@@ -8,7 +8,6 @@
 #include <fstream>
 #include <memory>
 #include <string>
-#include <unordered_map>
 #include <unordered_set>
 
 #include <nlohmann/json.hpp>
@@ -72,28 +71,17 @@ bool isSubsetOfOriginal(const mesh::TriangleMesh& original, const mesh::Triangle
   return true;
 }
 
-// The triangles with every vertex replaced by the first one at its position: the surface's
-// connectivity, with texture seams (vertices split where their UVs differ) closed.
-std::vector<std::uint32_t> weldedIndices(const mesh::TriangleMesh& mesh) {
-  std::unordered_map<glm::vec3, std::uint32_t, PositionHash> first;
-  first.reserve(mesh.vertexCount());
-  std::vector<std::uint32_t> welded;
-  welded.reserve(mesh.indices.size());
-  for (std::uint32_t v : mesh.indices) welded.push_back(first.try_emplace(mesh.positions[v], v).first->second);
-  return welded;
-}
-
 // Open edges of the output that do not lie on the original's open boundary: an output open
 // edge is allowed only between two vertices of original open edges. Both are taken with
 // positions welded, so a crack along a texture seam counts.
 std::size_t openEdgesAdded(const mesh::TriangleMesh& original, const mesh::TriangleMesh& simplified) {
   std::unordered_set<glm::vec3, PositionHash> boundary;
-  for (const auto& [a, b] : mesh::openEdges(weldedIndices(original))) {
+  for (const auto& [a, b] : mesh::openEdges(mesh::indicesWeldedByPosition(original.indices, original.positions))) {
     boundary.insert(original.positions[a]);
     boundary.insert(original.positions[b]);
   }
   std::size_t added = 0;
-  for (const auto& [a, b] : mesh::openEdges(weldedIndices(simplified)))
+  for (const auto& [a, b] : mesh::openEdges(mesh::indicesWeldedByPosition(simplified.indices, simplified.positions)))
     added += !(boundary.contains(simplified.positions[a]) && boundary.contains(simplified.positions[b]));
   return added;
 }

@@ -14,6 +14,7 @@
 #include "mesh_test_topology.hpp"
 #include "polder/mesh/cluster_builder.hpp"
 #include "polder/mesh/collapse_builder.hpp"
+#include "polder/mesh/mesh_extraction.hpp"
 #include "polder/mesh/progressive_mesh.hpp"
 #include "polder/mesh/progressive_mesh_instance.hpp"
 
@@ -230,7 +231,7 @@ TEST_P(BuilderProperties, TextureSeamNeverOpens) {
         instance.setLevel(r, trial == 0 ? 0 : std::uniform_int_distribution<std::uint32_t>(0, levels)(random));
       }
       instance.resolveBorders();
-      const auto welded = test::weldedByPosition(drawnIndices(instance), positions);
+      const auto welded = indicesWeldedByPosition(drawnIndices(instance), positions);
       ASSERT_EQ(openEdgeCount(welded), 0u) << regions << " regions, trial " << trial;
       for (std::size_t t = 0; t < welded.size(); t += 3)
         ASSERT_TRUE(welded[t] != welded[t + 1] && welded[t + 1] != welded[t + 2] && welded[t] != welded[t + 2])

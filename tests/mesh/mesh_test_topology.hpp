@@ -38,19 +38,6 @@ inline std::map<Edge, int> edgeUse(const std::vector<std::uint32_t>& indices) {
   return use;
 }
 
-// The triangles with every vertex replaced by the first one at its position: the surface's
-// connectivity, with texture seams closed.
-inline std::vector<std::uint32_t> weldedByPosition(const std::vector<std::uint32_t>& indices,
-                                                   const std::vector<glm::vec3>& positions) {
-  auto less = [](const glm::vec3& a, const glm::vec3& b) {
-    return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z;
-  };
-  std::map<glm::vec3, std::uint32_t, decltype(less)> first(less);
-  std::vector<std::uint32_t> welded;
-  for (std::uint32_t v : indices) welded.push_back(first.try_emplace(positions[v], v).first->second);
-  return welded;
-}
-
 inline std::size_t openEdgeCount(const std::vector<std::uint32_t>& indices) {
   std::size_t open = 0;
   for (const auto& [edge, count] : edgeUse(indices)) open += count == 1;

@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include "polder/mesh/region_partition.hpp"
 #include "polder/mesh/triangle_mesh.hpp"
 
 namespace polder::mesh {
@@ -68,6 +69,30 @@ inline std::vector<std::uint32_t> positionTwins(const std::vector<glm::vec3>& po
     else if (end - first > 2) std::fill(twin.begin() + first, twin.begin() + end, kManyTwins);
   }
   return twin;
+}
+
+// Keeps the twins (positionTwins) that make a texture seam, which the builders move in
+// pairs: both are border vertices of the split surface (isBorder) in one region. Every
+// other vertex sharing its position loses its twin (kNoTwin) and is returned, to be held
+// in place: moving it alone would part the surface where the copies meet.
+template <class IsBorder>
+std::vector<std::uint32_t> keepSeamTwins(std::vector<std::uint32_t>& twin, const RegionPartition& partition,
+                                         const IsBorder& isBorder) {
+  std::vector<std::uint32_t> held;
+  for (std::uint32_t v = 0; v < twin.size(); ++v) {
+    const std::uint32_t other = twin[v];
+    if (other == kNoTwin) continue;
+    const bool seam = other != kManyTwins && isBorder(v) && isBorder(other) &&
+                      partition.regionOf(v) == partition.regionOf(other);
+    if (seam) continue;
+    held.push_back(v);
+    twin[v] = kNoTwin;
+    if (other != kManyTwins) {
+      held.push_back(other);
+      twin[other] = kNoTwin;
+    }
+  }
+  return held;
 }
 
 }  // namespace polder::mesh

@@ -382,21 +382,11 @@ class ClusterBuilder {
   // gathering one alone would part the seam's sides.
   void classifySeams() {
     m_twin = positionTwins(m_mesh.positions);
-    std::vector<std::uint8_t> paired(m_vertexCount, 0);
-    for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
-      const std::uint32_t twin = m_twin[v];
-      paired[v] = twin < m_vertexCount && m_class[v] == VertexClass::Boundary &&
-                  m_class[twin] == VertexClass::Boundary && m_partition.regionOf(v) == m_partition.regionOf(twin);
-    }
-    for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
-      if (m_twin[v] == kNoTwin) continue;
-      if (paired[v]) {
-        m_class[v] = VertexClass::Seam;
-      } else {
-        m_class[v] = VertexClass::Complex;
-        m_twin[v] = kNoTwin;
-      }
-    }
+    const std::vector<std::uint32_t> held = keepSeamTwins(
+        m_twin, m_partition, [&](std::uint32_t v) { return m_class[v] == VertexClass::Boundary; });
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v)
+      if (m_twin[v] != kNoTwin) m_class[v] = VertexClass::Seam;
+    for (std::uint32_t v : held) m_class[v] = VertexClass::Complex;
   }
 
   // Whether v's triangles (every edge at v run both ways) make one cycle around it, each
@@ -1000,10 +990,10 @@ class ClusterBuilder {
   std::vector<std::uint32_t> m_newIndex;
   double m_priority = 0.0;
   float m_error = 0.0f;
-  bool m_cellLeftOut = false;
-  bool m_seamRoot = false;        // the tree being grown is a Seam vertex's
-  std::uint32_t m_rTwin = kNone;
-  std::vector<std::uint32_t> m_targets;  // per member of a step across a seam: targetOf  // the last evaluation's twin target (addTwins), or kNone  // the last tree's cell left out a vertex it could have reached
+  bool m_cellLeftOut = false;            // the last tree's cell left out a vertex it could have reached
+  bool m_seamRoot = false;               // the tree being grown is a Seam vertex's
+  std::uint32_t m_rTwin = kNone;         // the last evaluation's twin target (addTwins), or kNone
+  std::vector<std::uint32_t> m_targets;  // per member of a step across a seam: targetOf
 };
 
 }  // namespace

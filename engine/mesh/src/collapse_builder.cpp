@@ -256,20 +256,8 @@ class CollapseBuilder {
   // by three or more vertices, stay put, so the surface never parts where they meet.
   // (m_twin holds positionTwins, found before classify for the seams' boundary planes.)
   void pairSeamTwins() {
-    for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
-      const std::uint32_t twin = m_twin[v];
-      if (twin == kNoTwin) continue;
-      const bool seam = twin != kManyTwins && m_vertex[v].kind == VertexKind::Border &&
-                        m_vertex[twin].kind == VertexKind::Border &&
-                        m_partition.regionOf(v) == m_partition.regionOf(twin);
-      if (seam) continue;
-      m_vertex[v].kind = VertexKind::Locked;
-      m_twin[v] = kNoTwin;
-      if (twin != kManyTwins) {
-        m_vertex[twin].kind = VertexKind::Locked;
-        m_twin[twin] = kNoTwin;
-      }
-    }
+    auto isBorder = [&](std::uint32_t v) { return m_vertex[v].kind == VertexKind::Border; };
+    for (std::uint32_t v : keepSeamTwins(m_twin, m_partition, isBorder)) m_vertex[v].kind = VertexKind::Locked;
   }
 
   // Where seam vertex v's twin goes when v goes onto its boundary neighbour u: onto u's
@@ -285,19 +273,21 @@ class CollapseBuilder {
     return kNone;
   }
 
-  // Whether v may go onto u now, with its twin where it has one.
-  bool moveIsValid(std::uint32_t v, std::uint32_t u) {
+  // Whether v may go onto u now, with its twin where it has one (onto `partner`).
+  bool moveIsValid(std::uint32_t v, std::uint32_t u, std::uint32_t& partner) {
+    partner = kNone;
     if (!collapseIsValid(v, u)) return false;
     if (m_twin[v] == kNoTwin) return true;
-    const std::uint32_t partner = seamPartner(v, u);
+    partner = seamPartner(v, u);
     return partner != kNone && collapseIsValid(m_twin[v], partner);
   }
 
   // Takes seam vertex v's queued move onto u together with its twin's, as one step, if both
   // are valid; false otherwise.
   bool collapseSeam(std::uint32_t v, std::uint32_t u, SimplificationSteps& steps) {
-    if (!m_vertex[u].alive || !moveIsValid(v, u)) return false;
-    const std::uint32_t twin = m_twin[v], partner = seamPartner(v, u);
+    std::uint32_t partner = kNone;
+    if (!m_vertex[u].alive || !moveIsValid(v, u, partner)) return false;
+    const std::uint32_t twin = m_twin[v];
     collapse(v, u);
     m_seamRing.assign(m_ring.begin(), m_ring.end());
     collapse(twin, partner);
@@ -443,8 +433,9 @@ class CollapseBuilder {
     else if (!m_optionScratch.empty())
       std::iter_swap(m_optionScratch.begin(),
                      std::min_element(m_optionScratch.begin(), m_optionScratch.end(), cheaper));
+    std::uint32_t partner = kNone;
     for (const Option& option : m_optionScratch) {
-      if (validate && !moveIsValid(v, option.vertex)) continue;
+      if (validate && !moveIsValid(v, option.vertex, partner)) continue;
       state.target = option.vertex;
       m_queue.set(v, option.cost);
       return;

@@ -1,7 +1,10 @@
 #include "polder/mesh/mesh_extraction.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <limits>
+#include <unordered_map>
 
 namespace polder::mesh {
 
@@ -23,6 +26,21 @@ TriangleMesh extractMesh(const ProgressiveMeshInstance& instance) {
     }
   }
   return out;
+}
+
+std::vector<std::uint32_t> indicesWeldedByPosition(const std::vector<std::uint32_t>& indices,
+                                                   const std::vector<glm::vec3>& positions) {
+  auto bitsOf = [&](std::uint32_t v) { return std::bit_cast<std::array<std::uint32_t, 3>>(positions[v]); };
+  struct BitsHash {
+    std::size_t operator()(const std::array<std::uint32_t, 3>& b) const {
+      return (std::size_t(b[0]) * 73856093u) ^ (std::size_t(b[1]) * 19349663u) ^ (std::size_t(b[2]) * 83492791u);
+    }
+  };
+  std::unordered_map<std::array<std::uint32_t, 3>, std::uint32_t, BitsHash> first;
+  std::vector<std::uint32_t> welded;
+  welded.reserve(indices.size());
+  for (std::uint32_t v : indices) welded.push_back(first.try_emplace(bitsOf(v), v).first->second);
+  return welded;
 }
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> openEdges(const std::vector<std::uint32_t>& indices) {

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "polder/mesh/progressive_mesh_instance.hpp"
 #include "polder/mesh/triangle_mesh.hpp"
 
@@ -12,6 +14,11 @@ namespace polder::mesh {
 
 // The triangles the instance draws, over the vertices they use (compacted, attributes kept).
 TriangleMesh extractMesh(const ProgressiveMeshInstance& instance);
+
+// The triangles with every vertex replaced by the first one at its bit-identical position:
+// the surface's connectivity, with texture seams (vertices split where UVs differ) closed.
+std::vector<std::uint32_t> indicesWeldedByPosition(const std::vector<std::uint32_t>& indices,
+                                                   const std::vector<glm::vec3>& positions);
 
 // Undirected edges used by exactly one triangle, each as (smaller, larger) vertex index.
 std::vector<std::pair<std::uint32_t, std::uint32_t>> openEdges(const std::vector<std::uint32_t>& indices);
