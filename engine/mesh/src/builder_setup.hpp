@@ -32,12 +32,17 @@ inline NormalizedPositions normalizePositions(const std::vector<glm::vec3>& posi
 }
 
 // The corners after and before v in triangle c (v is one of its three corners): walking
-// them round a vertex's fan follows the triangles' winding.
+// them round a vertex's fan follows the triangles' winding. v's corner is found without a
+// branch: which corner it is looks random to the branch predictor, and the mispredictions
+// were the fan walks' largest cost.
+inline int cornerIndex(const std::uint32_t* c, std::uint32_t v) { return int(c[1] == v) + 2 * int(c[2] == v); }
 inline std::uint32_t cornerAfter(const std::uint32_t* c, std::uint32_t v) {
-  return c[0] == v ? c[1] : c[1] == v ? c[2] : c[0];
+  const int k = cornerIndex(c, v);
+  return c[k + 1 - 3 * int(k == 2)];
 }
 inline std::uint32_t cornerBefore(const std::uint32_t* c, std::uint32_t v) {
-  return c[0] == v ? c[2] : c[1] == v ? c[0] : c[1];
+  const int k = cornerIndex(c, v);
+  return c[k - 1 + 3 * int(k == 0)];
 }
 
 // The input's triangles without degenerate ones, three corners each.

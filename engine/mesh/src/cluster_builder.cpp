@@ -493,33 +493,41 @@ class ClusterBuilder {
     TreePoint* point = m_treePoint.data();
     const std::uint32_t* corner = m_corner.data();
     point[r].mark = inTree;
-    m_members.clear();
-    m_parent.clear();
-    m_cellLeftOut = false;
+    // The tree never outgrows kMaxClusterSize: members are written in place, counted by `size`.
+    m_members.resize(kMaxClusterSize);
+    m_parent.resize(kMaxClusterSize);
+    std::uint32_t* members = m_members.data();
+    std::uint32_t* parents = m_parent.data();
+    std::uint32_t size = 0, cellLeftOut = 0;
     m_seamRoot = m_class[r] == VertexClass::Seam;
     const glm::vec3 centre = point[r].position;
     const auto half = static_cast<float>(0.5 * tau);
     const std::uint32_t region = m_partition.regionOf(r);
-    // Whether the tree has room for more after x, reached from p, was looked at.
+    const bool oneRegion = m_partition.regionCount <= 1;
+    // Whether the tree has room for more after x, reached from p, was looked at. Whether x
+    // was seen, lies in the cell and joins is as good as random, so it is worked out
+    // without branches: mispredicted branches here were the builder's largest cost.
     auto consider = [&](std::uint32_t p, std::uint32_t x, std::uint32_t parentIndex) {
       TreePoint& at = point[x];
-      if (at.mark == inTree || at.mark == outside) return true;
-      const glm::vec3 d = glm::abs(at.position - centre);
-      if (d.x > half || d.y > half || d.z > half) {
-        at.mark = outside;
-        m_cellLeftOut = true;
-        return true;
-      }
-      if (m_partition.regionOf(x) != region) {
-        at.mark = outside;
-        return true;
-      }
-      if (!keepsFeature(p, x)) return true;  // depends on the edge it is reached by
-      at.mark = inTree;
-      m_members.push_back(x);
-      m_parent.push_back(parentIndex);
-      m_memberIndex[x] = static_cast<std::uint32_t>(m_members.size() - 1);
-      return m_members.size() < kMaxClusterSize;
+      const std::uint32_t mark = at.mark;
+      const glm::vec3 offset = at.position - centre;  // std::fabs below: glm::abs branches on the sign
+      const std::uint32_t unseen = std::uint32_t(mark != inTree) & std::uint32_t(mark != outside);
+      const std::uint32_t inCell = std::uint32_t(std::fabs(offset.x) <= half) &
+                                   std::uint32_t(std::fabs(offset.y) <= half) &
+                                   std::uint32_t(std::fabs(offset.z) <= half);
+      const std::uint32_t inRegion = oneRegion || m_partition.regionOf(x) == region;
+      std::uint32_t joins = unseen & inCell & inRegion;
+      // Joining along a feature depends on the edge x is reached by, so it leaves no mark.
+      if (m_class[x] != VertexClass::Simple || (m_useColours && m_colourBorder[x])) [[unlikely]]
+        joins = joins && keepsFeature(p, x);
+      cellLeftOut |= unseen & (inCell ^ 1u);
+      const std::uint32_t seenOutside = unseen & ((inCell & inRegion) ^ 1u);
+      const std::uint32_t markOutside = mark + (outside - mark) * seenOutside;
+      at.mark = markOutside + (inTree - markOutside) * joins;
+      members[size] = x;  // kept only if x joins
+      parents[size] = parentIndex;
+      size += joins;
+      return size < kMaxClusterSize;
     };
     // p's neighbours through its live triangles; around a vertex with every edge run both
     // ways, each neighbour is the corner after p in exactly one triangle.
@@ -532,9 +540,13 @@ class ClusterBuilder {
       }
       return true;
     };
-    if (!visit(r, kNone) || !wholeTree) return;
-    for (std::uint32_t i = 0; i < m_members.size(); ++i)
-      if (!visit(m_members[i], i)) return;
+    if (visit(r, kNone) && wholeTree)
+      for (std::uint32_t i = 0; i < size; ++i)
+        if (!visit(members[i], i)) break;
+    m_members.resize(size);
+    m_parent.resize(size);
+    for (std::uint32_t i = 0; i < size; ++i) m_memberIndex[members[i]] = i;
+    m_cellLeftOut = cellLeftOut != 0;
   }
 
   // Two fresh mark values (the tree's and the outside's); marks are cleared before the

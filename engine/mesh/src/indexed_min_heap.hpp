@@ -75,7 +75,7 @@ class IndexedMinHeap {
     for (;;) {
       std::uint32_t child = 2 * at + 1;
       if (child >= size) break;
-      if (child + 1 < size && m_heap[child + 1].key < m_heap[child].key) ++child;
+      if (child + 1 < size) child += std::uint32_t(m_heap[child + 1].key < m_heap[child].key);  // no branch: a coin toss
       if (!(m_heap[child].key < entry.key)) break;
       place(at, m_heap[child]);
       at = child;
