@@ -1,6 +1,7 @@
 #include "polder/mesh/cluster_builder.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -169,6 +170,7 @@ class ClusterBuilder {
     while (!m_queue.empty()) {
       r = m_queue.top();
       m_queue.remove(r);
+      if (!m_queue.empty()) m_fan.prefetch(m_queue.top());  // often the next one looked at
       if (!evaluate(r, Evaluation::Tree)) continue;
       if (!beatsTheQueue()) {
         m_queue.set(r, queueKey());
@@ -494,10 +496,8 @@ class ClusterBuilder {
     const std::uint32_t* corner = m_corner.data();
     point[r].mark = inTree;
     // The tree never outgrows kMaxClusterSize: members are written in place, counted by `size`.
-    m_members.resize(kMaxClusterSize);
-    m_parent.resize(kMaxClusterSize);
-    std::uint32_t* members = m_members.data();
-    std::uint32_t* parents = m_parent.data();
+    std::uint32_t* members = m_treeMembers.data();
+    std::uint32_t* parents = m_treeParents.data();
     std::uint32_t size = 0, cellLeftOut = 0;
     m_seamRoot = m_class[r] == VertexClass::Seam;
     const glm::vec3 centre = point[r].position;
@@ -540,11 +540,16 @@ class ClusterBuilder {
       }
       return true;
     };
+    // Breadth first: the fans of the members queued so far are loaded while the first of
+    // them is walked.
+    std::uint32_t fansLoading = 0;
     if (visit(r, kNone) && wholeTree)
-      for (std::uint32_t i = 0; i < size; ++i)
+      for (std::uint32_t i = 0; i < size; ++i) {
+        for (; fansLoading < size; ++fansLoading) m_fan.prefetch(members[fansLoading]);
         if (!visit(members[i], i)) break;
-    m_members.resize(size);
-    m_parent.resize(size);
+      }
+    m_members.assign(members, members + size);
+    m_parent.assign(parents, parents + size);
     for (std::uint32_t i = 0; i < size; ++i) m_memberIndex[members[i]] = i;
     m_cellLeftOut = cellLeftOut != 0;
   }
@@ -615,7 +620,9 @@ class ClusterBuilder {
     double sum = 0.0;
     for (const MemberScore& score : m_memberScore) sum += score.cost;
     const double limit = kOutlierFactor * sum / double(m_members.size());
-    for (std::size_t i = 0; i < m_members.size(); ++i) m_dropped[i] = m_memberScore[i].cost > limit;
+    bool anyDropped = false;
+    for (std::size_t i = 0; i < m_members.size(); ++i) anyDropped |= m_dropped[i] = m_memberScore[i].cost > limit;
+    if (!anyDropped) return;
     dropSubtrees();
     removeDroppedMembers();
   }
@@ -796,6 +803,11 @@ class ClusterBuilder {
   void scoreMembers(std::uint32_t r) {
     const glm::dvec3& at = m_position[r];
     m_memberScore.resize(m_members.size());
+    for (std::uint32_t v : m_members) {  // all the members' misses at once, not one after another
+      __builtin_prefetch(&m_quadric[v]);
+      __builtin_prefetch(reinterpret_cast<const char*>(&m_quadric[v]) + sizeof(Quadric) - 1);
+      __builtin_prefetch(&m_position[v]);
+    }
     for (std::size_t i = 0; i < m_members.size(); ++i) {
       const std::uint32_t v = m_members[i];
       const Quadric& q = m_quadric[v];
@@ -991,6 +1003,7 @@ class ClusterBuilder {
   std::vector<std::uint32_t> m_ringMark;
   std::uint32_t m_stamp = 0, m_ringStamp = 0;
   std::vector<std::uint32_t> m_members, m_parent, m_ring;
+  std::array<std::uint32_t, kMaxClusterSize> m_treeMembers, m_treeParents;  // growTree's room
   std::vector<std::uint8_t> m_dropped;
   std::vector<Link> m_links;
   std::vector<std::uint32_t> m_memberIndex;  // per vertex: its index in m_members when marked
