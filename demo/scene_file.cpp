@@ -9,6 +9,7 @@
 
 #include <polder/mesh/cluster_builder.hpp>
 #include <polder/mesh/collapse_builder.hpp>
+#include <polder/mesh/progressive_mesh_build.hpp>
 #include <polder/mesh_io/mesh_file.hpp>
 #include <polder/terrain/heightfield_crop.hpp>
 
@@ -207,22 +208,21 @@ Result<std::shared_ptr<const scene::MeshModel>> modelOf(const SceneReader& reade
     }
   }
   const std::string builder = value.value("builder", std::string("collapse"));
-  Result<mesh::SimplificationSteps> steps = reader.error(where + ".builder", "unknown builder '" + builder + "' (collapse, cluster)");
+  Result<mesh::ProgressiveMesh> progressive =
+      reader.error(where + ".builder", "unknown builder '" + builder + "' (collapse, cluster)");
   {
     ProgressBar progress("building " + name);
     const auto report = [&progress](double f) { progress.update(float(f)); };
     if (builder == "collapse") {
       mesh::CollapseOptions options;
       options.progress = report;
-      steps = mesh::buildCollapseSteps(shape, partition, options);
+      progressive = mesh::buildProgressiveMesh(shape, partition, options);
     } else if (builder == "cluster") {
       mesh::ClusterOptions options;
       options.progress = report;
-      steps = mesh::buildClusterSteps(shape, partition, options);
+      progressive = mesh::buildProgressiveMesh(shape, partition, options);
     }
   }
-  if (!steps) return steps.error();
-  auto progressive = mesh::ProgressiveMesh::assemble(shape, partition, *steps);
   if (!progressive) return progressive.error();
   return std::make_shared<const scene::MeshModel>(name, std::move(*progressive));
 }

@@ -12,6 +12,7 @@
 #include "indexed_min_heap.hpp"
 #include "locality_order.hpp"
 #include "quadric.hpp"
+#include "step_listener.hpp"
 #include "triangle_fans.hpp"
 #include "triangle_planes.hpp"
 
@@ -115,10 +116,12 @@ class UnionFind {
 
 class ClusterBuilder {
  public:
-  ClusterBuilder(const TriangleMesh& mesh, const RegionPartition& partition, const ClusterOptions& options)
+  ClusterBuilder(const TriangleMesh& mesh, const RegionPartition& partition, const ClusterOptions& options,
+                 StepListener* listener)
       : m_mesh(mesh),
         m_partition(partition),
         m_options(options),
+        m_listener(listener),
         m_queue(static_cast<std::uint32_t>(mesh.vertexCount())) {}
 
   SimplificationSteps run() {
@@ -149,6 +152,7 @@ class ClusterBuilder {
         for (std::size_t i = 0; i < m_members.size(); ++i) m_targets[i] = targetOf(i, r);
         steps.add(r, m_members, m_targets, m_error);
       }
+      if (m_listener) m_listener->stepTaken(steps);
       removedCount += m_members.size();
       const std::uint32_t rTwin = m_rTwin;  // evaluations below overwrite it
       updateNeighbourhood(r);
@@ -973,6 +977,7 @@ class ClusterBuilder {
   const TriangleMesh& m_mesh;
   const RegionPartition& m_partition;
   const ClusterOptions& m_options;
+  StepListener* m_listener;  // may be null
   std::uint32_t m_vertexCount = 0;
   double m_diagonal = 1.0;
   double m_cellLimit = 2.0;
@@ -1025,6 +1030,11 @@ class ClusterBuilder {
 
 Result<SimplificationSteps> buildClusterSteps(const TriangleMesh& mesh, const RegionPartition& partition,
                                               const ClusterOptions& options) {
+  return buildClusterSteps(mesh, partition, options, nullptr);
+}
+
+Result<SimplificationSteps> buildClusterSteps(const TriangleMesh& mesh, const RegionPartition& partition,
+                                              const ClusterOptions& options, StepListener* listener) {
   if (Status s = validateMesh(mesh, "cluster builder input"); !s) return s.error();
   if (Status s = validatePartition(partition, mesh.vertexCount(), "cluster builder regions"); !s) return s.error();
   if (!(options.initialCellFraction >= 0.0) || !std::isfinite(options.initialCellFraction))
@@ -1035,8 +1045,8 @@ Result<SimplificationSteps> buildClusterSteps(const TriangleMesh& mesh, const Re
     return makeError(ErrorKind::InvalidArgument, "cluster builder: colourWeight must be finite and >= 0");
   if (!(options.featureAngleDegrees >= 0.0 && options.featureAngleDegrees <= 180.0))
     return makeError(ErrorKind::InvalidArgument, "cluster builder: featureAngleDegrees must lie in [0, 180]");
-  return buildInLocalityOrder(mesh, partition, [&](const TriangleMesh& ordered, const RegionPartition& regions) {
-    return ClusterBuilder(ordered, regions, options).run();
+  return buildInLocalityOrder(mesh, partition, listener, [&](const TriangleMesh& ordered, const RegionPartition& regions) {
+    return ClusterBuilder(ordered, regions, options, listener).run();
   });
 }
 

@@ -10,6 +10,7 @@
 #include "indexed_min_heap.hpp"
 #include "locality_order.hpp"
 #include "quadric.hpp"
+#include "step_listener.hpp"
 #include "triangle_fans.hpp"
 #include "triangle_planes.hpp"
 
@@ -71,8 +72,9 @@ struct Neighbour {
 
 class CollapseBuilder {
  public:
-  CollapseBuilder(const TriangleMesh& mesh, const RegionPartition& partition, const CollapseOptions& options)
-      : m_mesh(mesh), m_partition(partition), m_options(options) {}
+  CollapseBuilder(const TriangleMesh& mesh, const RegionPartition& partition, const CollapseOptions& options,
+                  StepListener* listener)
+      : m_mesh(mesh), m_partition(partition), m_options(options), m_listener(listener) {}
 
   SimplificationSteps run() {
     setUp();
@@ -101,6 +103,7 @@ class CollapseBuilder {
       collapse(v, u);
       const std::uint32_t removed[1] = {v};
       steps.add(u, removed, clusterError(u));
+      if (m_listener) m_listener->stepTaken(steps);
       if (m_options.progress && steps.size() % reportEvery == 0)
         m_options.progress(double(steps.size()) / double(m_vertexCount));
     }
@@ -293,6 +296,7 @@ class CollapseBuilder {
     collapse(twin, partner);
     const std::uint32_t removed[2] = {v, twin}, onto[2] = {u, partner};
     steps.add(u, removed, onto, std::max(clusterError(u), clusterError(partner)));
+    if (m_listener) m_listener->stepTaken(steps);
     // Seam vertices around either side were re-costed while the other side still had its
     // old shape: cost them again.
     m_seamRing.insert(m_seamRing.end(), m_ring.begin(), m_ring.end());
@@ -544,6 +548,7 @@ class CollapseBuilder {
   const TriangleMesh& m_mesh;
   const RegionPartition& m_partition;
   const CollapseOptions& m_options;
+  StepListener* m_listener;  // may be null
   std::uint32_t m_vertexCount = 0;
   double m_diagonal = 1.0;
   double m_tieBreakScale = 0.0;  // kShorterEdgeFirst x mean squared edge length
@@ -571,6 +576,11 @@ class CollapseBuilder {
 
 Result<SimplificationSteps> buildCollapseSteps(const TriangleMesh& mesh, const RegionPartition& partition,
                                                const CollapseOptions& options) {
+  return buildCollapseSteps(mesh, partition, options, nullptr);
+}
+
+Result<SimplificationSteps> buildCollapseSteps(const TriangleMesh& mesh, const RegionPartition& partition,
+                                               const CollapseOptions& options, StepListener* listener) {
   if (Status s = validateMesh(mesh, "collapse builder input"); !s) return s.error();
   if (Status s = validatePartition(partition, mesh.vertexCount(), "collapse builder regions"); !s) return s.error();
   if (!(options.minNormalCosine >= -1.0 && options.minNormalCosine < 1.0))
@@ -578,8 +588,8 @@ Result<SimplificationSteps> buildCollapseSteps(const TriangleMesh& mesh, const R
   if (!(options.normalWeight >= 0.0) || !(options.colourWeight >= 0.0) || !(options.uvWeight >= 0.0) ||
       !(options.boundaryWeight >= 0.0))
     return makeError(ErrorKind::InvalidArgument, "collapse builder: weights must be finite and >= 0");
-  return buildInLocalityOrder(mesh, partition, [&](const TriangleMesh& ordered, const RegionPartition& regions) {
-    return CollapseBuilder(ordered, regions, options).run();
+  return buildInLocalityOrder(mesh, partition, listener, [&](const TriangleMesh& ordered, const RegionPartition& regions) {
+    return CollapseBuilder(ordered, regions, options, listener).run();
   });
 }
 

@@ -16,6 +16,7 @@
 #include "polder/mesh/region_partition.hpp"
 #include "polder/mesh/simplification_steps.hpp"
 #include "polder/mesh/triangle_mesh.hpp"
+#include "step_listener.hpp"
 
 namespace polder::mesh {
 
@@ -137,11 +138,12 @@ inline LocalityOrdered inLocalityOrder(const TriangleMesh& mesh, const RegionPar
 }
 
 // Runs build(mesh, partition) -> SimplificationSteps on the copy in locality order and
-// renames the steps' vertices back to the input's ids.
+// renames the steps' vertices back to the input's ids; a listener learns the renaming first.
 template <class Build>
 SimplificationSteps buildInLocalityOrder(const TriangleMesh& mesh, const RegionPartition& partition,
-                                         const Build& build) {
+                                         StepListener* listener, const Build& build) {
   const LocalityOrdered ordered = inLocalityOrder(mesh, partition);
+  if (listener) listener->renumbered(ordered.originalOf);
   SimplificationSteps steps = build(ordered.mesh, ordered.partition);
   for (std::uint32_t& v : steps.representative) v = ordered.originalOf[v];
   for (std::uint32_t& v : steps.removed) v = ordered.originalOf[v];
