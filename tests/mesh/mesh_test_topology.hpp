@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <map>
 #include <span>
@@ -42,6 +43,37 @@ inline std::size_t openEdgeCount(const std::vector<std::uint32_t>& indices) {
   std::size_t open = 0;
   for (const auto& [edge, count] : edgeUse(indices)) open += count == 1;
   return open;
+}
+
+// Pairs of drawn triangles on the same three vertices facing apart: a fin standing out of
+// the surface (degenerate triangles aside).
+inline std::size_t foldedPairCount(const std::vector<std::uint32_t>& indices) {
+  std::map<std::array<std::uint32_t, 3>, std::pair<int, int>> facing;  // sorted corners -> (even, odd) windings
+  for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+    std::array<std::uint32_t, 3> c = {indices[t], indices[t + 1], indices[t + 2]};
+    if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;
+    // The winding's parity: rotate the smallest corner first; then ascending or not.
+    while (c[0] > c[1] || c[0] > c[2]) std::rotate(c.begin(), c.begin() + 1, c.end());
+    const bool ascending = c[1] < c[2];
+    std::sort(c.begin(), c.end());
+    auto& [even, odd] = facing[c];
+    ++(ascending ? even : odd);
+  }
+  std::size_t pairs = 0;
+  for (const auto& [corners, windings] : facing) pairs += std::size_t(std::min(windings.first, windings.second));
+  return pairs;
+}
+
+inline bool isDegenerate(std::span<const std::uint32_t> indices, std::size_t slot) {
+  return indices[slot] == indices[slot + 1] || indices[slot + 1] == indices[slot + 2] || indices[slot] == indices[slot + 2];
+}
+
+// The triangles that are not degenerate (a flattened pair is drawn as nothing).
+inline std::vector<std::uint32_t> withoutDegenerate(const std::vector<std::uint32_t>& indices) {
+  std::vector<std::uint32_t> out;
+  for (std::size_t t = 0; t + 2 < indices.size(); t += 3)
+    if (!isDegenerate(indices, t)) out.insert(out.end(), {indices[t], indices[t + 1], indices[t + 2]});
+  return out;
 }
 
 // The normal of the triangle at indices[slot..slot+2], twice its area long.

@@ -14,15 +14,20 @@ TriangleMesh extractMesh(const ProgressiveMeshInstance& instance) {
   std::vector<std::uint32_t> compact(source.vertexCount(), kUnused);
   TriangleMesh out;
   for (std::uint32_t r = 0; r < instance.mesh().regionCount(); ++r) {
-    for (std::uint32_t v : instance.indices(r)) {
-      if (compact[v] == kUnused) {
-        compact[v] = static_cast<std::uint32_t>(out.positions.size());
-        out.positions.push_back(source.positions[v]);
-        if (source.hasNormals()) out.normals.push_back(source.normals[v]);
-        if (source.hasColours()) out.colours.push_back(source.colours[v]);
-        if (source.hasUvs()) out.uvs.push_back(source.uvs[v]);
+    const std::span<const std::uint32_t> indices = instance.indices(r);
+    for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+      const std::uint32_t a = indices[t], b = indices[t + 1], c = indices[t + 2];
+      if (a == b || b == c || a == c) continue;  // a flattened fold (resolveBorders)
+      for (std::uint32_t v : {a, b, c}) {
+        if (compact[v] == kUnused) {
+          compact[v] = static_cast<std::uint32_t>(out.positions.size());
+          out.positions.push_back(source.positions[v]);
+          if (source.hasNormals()) out.normals.push_back(source.normals[v]);
+          if (source.hasColours()) out.colours.push_back(source.colours[v]);
+          if (source.hasUvs()) out.uvs.push_back(source.uvs[v]);
+        }
+        out.indices.push_back(compact[v]);
       }
-      out.indices.push_back(compact[v]);
     }
   }
   return out;

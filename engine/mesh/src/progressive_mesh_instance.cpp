@@ -1,6 +1,8 @@
 #include "polder/mesh/progressive_mesh_instance.hpp"
 
 #include <algorithm>
+#include <array>
+#include <tuple>
 
 namespace polder::mesh {
 
@@ -13,6 +15,7 @@ ProgressiveMeshInstance::ProgressiveMeshInstance(const ProgressiveMesh& mesh) : 
     state.level = seq.levelCount();
     state.indices.assign(seq.fullIndices().begin(), seq.fullIndices().end());
     state.borderTable.assign(seq.borderVertices().begin(), seq.borderVertices().end());
+    state.borderTriangles.reserve(seq.foreignCorners().size());  // no allocation per frame
   }
 }
 
@@ -21,6 +24,8 @@ void ProgressiveMeshInstance::setLevel(std::uint32_t region, std::uint32_t level
   RegionState& state = m_regions[region];
   level = std::min(level, seq.levelCount());
   if (level == state.level) return;
+  // A flattened pair's corners are set afresh once the region's own corners move.
+  if (state.hasFlattenedPair) state.bordersStale = true;
   const std::size_t stepCount = seq.levelCount();
   std::size_t tableWrites = 0;
   // Level l has taken steps [0, stepCount - l) from the original.
@@ -54,6 +59,52 @@ void ProgressiveMeshInstance::resolveBorders() {
     }
     m_writes += m_mesh->region(r).foreignCorners().size();
     state.bordersStale = false;
+    flattenFoldedPairs(r);
+  }
+}
+
+// Whether the triangles holding the two slots have the same corners in the input (a
+// double-sided sheet modelled so): the input's own, not a fold to flatten.
+bool ProgressiveMeshInstance::backToBackInTheInput(std::uint32_t region, std::uint32_t slotX, std::uint32_t slotY) const {
+  const std::span<const std::uint32_t> full = m_mesh->region(region).fullIndices();
+  auto corners = [&](std::uint32_t slot) {
+    const std::uint32_t t = slot / 3;
+    std::array<std::uint32_t, 3> c = {full[3 * t], full[3 * t + 1], full[3 * t + 2]};
+    std::sort(c.begin(), c.end());
+    return c;
+  };
+  return corners(slotX) == corners(slotY);
+}
+
+void ProgressiveMeshInstance::flattenFoldedPairs(std::uint32_t region) {
+  RegionState& state = m_regions[region];
+  const std::uint32_t drawnSlots = 3 * triangleCount(region);
+  state.borderTriangles.clear();
+  std::uint32_t lastTriangle = drawnSlots;  // no triangle
+  for (const ForeignCorner& corner : m_mesh->region(region).foreignCorners()) {
+    if (corner.slot >= drawnSlots) break;  // ascending slots
+    const std::uint32_t t = corner.slot / 3, k = corner.slot % 3;
+    if (t == lastTriangle) continue;  // a triangle with two foreign corners, once
+    lastTriangle = t;
+    const std::uint32_t c = state.indices[corner.slot];
+    const std::uint32_t a = state.indices[3 * t + (k + 1) % 3], b = state.indices[3 * t + (k + 2) % 3];
+    if (a == b || a == c || b == c) continue;
+    state.borderTriangles.push_back({c, std::min(a, b), std::max(a, b), corner.slot, a < b});
+  }
+  auto key = [](const BorderTriangle& t) { return std::tie(t.foreign, t.lower, t.higher); };
+  std::sort(state.borderTriangles.begin(), state.borderTriangles.end(),
+            [&](const BorderTriangle& x, const BorderTriangle& y) { return key(x) < key(y); });
+  state.hasFlattenedPair = false;
+  const std::vector<BorderTriangle>& sorted = state.borderTriangles;
+  for (std::size_t i = 0; i + 1 < sorted.size(); ++i) {
+    const BorderTriangle &x = sorted[i], &y = sorted[i + 1];
+    if (key(x) != key(y) || x.ascending == y.ascending || backToBackInTheInput(region, x.slot, y.slot)) continue;
+    // Back to back: the foreign corner joins the lower corner, in both.
+    state.indices[x.slot] = x.lower;
+    state.indices[y.slot] = y.lower;
+    m_writes += 2;
+    state.hasFlattenedPair = true;
+    ++i;
   }
 }
 

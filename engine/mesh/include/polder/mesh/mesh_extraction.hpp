@@ -12,7 +12,8 @@
 
 namespace polder::mesh {
 
-// The triangles the instance draws, over the vertices they use (compacted, attributes kept).
+// The triangles the instance draws, over the vertices they use (compacted, attributes kept);
+// flattened folds (degenerate, see resolveBorders) are left out.
 TriangleMesh extractMesh(const ProgressiveMeshInstance& instance);
 
 // The triangles with every vertex replaced by the first one at its bit-identical position:

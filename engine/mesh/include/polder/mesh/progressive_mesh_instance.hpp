@@ -31,6 +31,12 @@ class ProgressiveMeshInstance {
 
   // Points border triangles at their neighbours' current representatives. Call once after
   // the frame's setLevel calls and before reading indices().
+  //
+  // A neighbour's step can join the far corners of two of this region's border triangles
+  // that lie back to back on one of its edges (a strip of this region one edge wide, at a
+  // finer level than the neighbour was when it took the step): the two then coincide,
+  // facing apart, a fin standing out of the surface. Such a pair is flattened to two
+  // degenerate triangles (drawn as nothing), which leaves every other edge as it was.
   void resolveBorders();
 
   // The region's triangles at its current level (3 indices each into mesh().vertices()).
@@ -44,12 +50,24 @@ class ProgressiveMeshInstance {
   std::uint64_t writes() const { return m_writes; }
 
  private:
+  // A drawn border triangle as resolveBorders sees it: its foreign corner's vertex, its
+  // other two corners (lower first) and whether they run lower to higher.
+  struct BorderTriangle {
+    std::uint32_t foreign, lower, higher, slot;
+    bool ascending;
+  };
   struct RegionState {
     std::uint32_t level = 0;
     std::vector<std::uint32_t> indices;      // full size; the drawn part is a prefix
     std::vector<std::uint32_t> borderTable;  // current representative of each border vertex
     bool bordersStale = false;               // a neighbour this region reads has moved
+    bool hasFlattenedPair = false;           // resolveBorders flattened a folded pair
+    std::vector<BorderTriangle> borderTriangles;  // resolveBorders' room, one per foreign corner
   };
+
+  void flattenFoldedPairs(std::uint32_t region);
+  bool backToBackInTheInput(std::uint32_t region, std::uint32_t slotX, std::uint32_t slotY) const;
+
   const ProgressiveMesh* m_mesh;
   std::vector<RegionState> m_regions;
   std::uint64_t m_writes = 0;
