@@ -189,7 +189,7 @@ ProgressiveMesh ProgressiveMeshAssembler::finish() {
     if (m_mesh.hasUvs()) out.m_vertices.uvs[i] = m_mesh.uvs[v];
   }
 
-  // Triangles per region in survival order.
+  // Triangles per region, in the input's order.
   std::vector<std::vector<std::uint32_t>> trianglesOf(regionCount);
   for (std::uint32_t t = 0; t < m_owner.size(); ++t) trianglesOf[m_owner[t]].push_back(t);
   std::vector<std::uint32_t> slotOf(m_owner.size());
@@ -199,33 +199,33 @@ ProgressiveMesh ProgressiveMeshAssembler::finish() {
     RegionSequence& seq = out.m_regions[r];
     const std::size_t stepCount = m_regionStepCount[r];
     seq.m_stepCount = stepCount;
-    std::vector<std::uint32_t>& tris = trianglesOf[r];
-    {  // Survivors first, then those that vanish last.
-      const auto bucket = [&](std::uint32_t i) {
-        const std::uint32_t key = m_vanishStep[tris[i]];
-        return key == kNever ? 0u : std::uint32_t(stepCount) - key;
-      };
-      const std::vector<std::uint32_t> sorted =
-          countingSort(static_cast<std::uint32_t>(tris.size()), std::uint32_t(stepCount) + 1, bucket);
-      std::vector<std::uint32_t> reordered(tris.size());
-      for (std::size_t i = 0; i < sorted.size(); ++i) reordered[i] = tris[sorted[i]];
-      tris = std::move(reordered);
-    }
+    const std::vector<std::uint32_t>& tris = trianglesOf[r];
+    // Slots: survivors first, then those that vanish last.
+    const auto bucket = [&](std::uint32_t i) {
+      const std::uint32_t key = m_vanishStep[tris[i]];
+      return key == kNever ? 0u : std::uint32_t(stepCount) - key;
+    };
+    const std::vector<std::uint32_t> sorted =
+        countingSort(static_cast<std::uint32_t>(tris.size()), std::uint32_t(stepCount) + 1, bucket);
+    for (std::uint32_t i = 0; i < sorted.size(); ++i) slotOf[tris[sorted[i]]] = 3 * i;
+    // Corners in the input's triangle order: the reads run in order and the writes scatter,
+    // which costs less than the other way round.
     seq.m_fullIndices.resize(3 * tris.size());
-    for (std::uint32_t i = 0; i < tris.size(); ++i) {
-      const std::uint32_t t = tris[i];
-      slotOf[t] = 3 * i;
+    for (std::uint32_t t : tris) {
+      const std::uint32_t slot = slotOf[t];
       for (std::uint32_t c = 0; c < 3; ++c) {
         const std::uint32_t original = m_originalCorners[3 * t + c];
-        seq.m_fullIndices[3 * i + c] = newIndex[original];
+        seq.m_fullIndices[slot + c] = newIndex[original];
         const std::uint32_t cornerRegion = m_partition.regionOf(original);
         if (cornerRegion == r) continue;
-        seq.m_foreignCorners.push_back({3 * i + c, cornerRegion, m_entryOf[original]});
+        seq.m_foreignCorners.push_back({slot + c, cornerRegion, m_entryOf[original]});
         // Regions are visited in order, so each reader list stays ascending.
         std::vector<std::uint32_t>& readers = out.m_regions[cornerRegion].m_readers;
         if (readers.empty() || readers.back() != r) readers.push_back(r);
       }
     }
+    std::sort(seq.m_foreignCorners.begin(), seq.m_foreignCorners.end(),
+              [](const ForeignCorner& a, const ForeignCorner& b) { return a.slot < b.slot; });
     // Counts after m steps.
     seq.m_trianglesAfterSteps.assign(stepCount + 1, 0);
     seq.m_verticesAfterSteps.assign(stepCount + 1, 0);
