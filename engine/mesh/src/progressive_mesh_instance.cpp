@@ -24,7 +24,9 @@ void ProgressiveMeshInstance::setLevel(std::uint32_t region, std::uint32_t level
   RegionState& state = m_regions[region];
   level = std::min(level, seq.levelCount());
   if (level == state.level) return;
-  // A flattened pair's corners are set afresh once the region's own corners move.
+  // The region's own moves can fold a pair of its border triangles too, and a flattened
+  // pair's corners are set afresh once they move.
+  if (!seq.foreignCorners().empty()) state.foldsUnchecked = true;
   if (state.hasFlattenedPair) state.bordersStale = true;
   const std::size_t stepCount = seq.levelCount();
   std::size_t tableWrites = 0;
@@ -53,13 +55,15 @@ void ProgressiveMeshInstance::setLevel(std::uint32_t region, std::uint32_t level
 void ProgressiveMeshInstance::resolveBorders() {
   for (std::uint32_t r = 0; r < m_regions.size(); ++r) {
     RegionState& state = m_regions[r];
-    if (!state.bordersStale) continue;
-    for (const ForeignCorner& corner : m_mesh->region(r).foreignCorners()) {
-      state.indices[corner.slot] = m_regions[corner.region].borderTable[corner.entry];
+    if (state.bordersStale) {
+      for (const ForeignCorner& corner : m_mesh->region(r).foreignCorners())
+        state.indices[corner.slot] = m_regions[corner.region].borderTable[corner.entry];
+      m_writes += m_mesh->region(r).foreignCorners().size();
+      state.bordersStale = false;
+      state.foldsUnchecked = true;
     }
-    m_writes += m_mesh->region(r).foreignCorners().size();
-    state.bordersStale = false;
-    flattenFoldedPairs(r);
+    if (state.foldsUnchecked) flattenFoldedPairs(r);
+    state.foldsUnchecked = false;
   }
 }
 
