@@ -45,13 +45,18 @@ inline std::size_t openEdgeCount(const std::vector<std::uint32_t>& indices) {
   return open;
 }
 
+// Whether the triangle at indices[slot..slot+2] repeats a vertex.
+inline bool isDegenerate(std::span<const std::uint32_t> indices, std::size_t slot) {
+  return mesh::isDegenerate(indices[slot], indices[slot + 1], indices[slot + 2]);
+}
+
 // Pairs of drawn triangles on the same three vertices facing apart: a fin standing out of
 // the surface (degenerate triangles aside).
 inline std::size_t foldedPairCount(const std::vector<std::uint32_t>& indices) {
   std::map<std::array<std::uint32_t, 3>, std::pair<int, int>> facing;  // sorted corners -> (even, odd) windings
   for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+    if (isDegenerate(indices, t)) continue;
     std::array<std::uint32_t, 3> c = {indices[t], indices[t + 1], indices[t + 2]};
-    if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;
     // The winding's parity: rotate the smallest corner first; then ascending or not.
     while (c[0] > c[1] || c[0] > c[2]) std::rotate(c.begin(), c.begin() + 1, c.end());
     const bool ascending = c[1] < c[2];
@@ -62,10 +67,6 @@ inline std::size_t foldedPairCount(const std::vector<std::uint32_t>& indices) {
   std::size_t pairs = 0;
   for (const auto& [corners, windings] : facing) pairs += std::size_t(std::min(windings.first, windings.second));
   return pairs;
-}
-
-inline bool isDegenerate(std::span<const std::uint32_t> indices, std::size_t slot) {
-  return indices[slot] == indices[slot + 1] || indices[slot + 1] == indices[slot + 2] || indices[slot] == indices[slot + 2];
 }
 
 // The triangles that are not degenerate (a flattened pair is drawn as nothing).

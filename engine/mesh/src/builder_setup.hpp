@@ -52,7 +52,7 @@ inline std::vector<std::uint32_t> liveTriangleCorners(const TriangleMesh& mesh) 
   corners.reserve(3 * inputTriangles);
   for (std::size_t t = 0; t < inputTriangles; ++t) {
     const std::uint32_t a = mesh.indices[3 * t], b = mesh.indices[3 * t + 1], c = mesh.indices[3 * t + 2];
-    if (a == b || b == c || a == c) continue;
+    if (isDegenerate(a, b, c)) continue;
     corners.insert(corners.end(), {a, b, c});
   }
   return corners;

@@ -17,7 +17,7 @@ TriangleMesh extractMesh(const ProgressiveMeshInstance& instance) {
     const std::span<const std::uint32_t> indices = instance.indices(r);
     for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
       const std::uint32_t a = indices[t], b = indices[t + 1], c = indices[t + 2];
-      if (a == b || b == c || a == c) continue;  // a flattened fold (resolveBorders)
+      if (isDegenerate(a, b, c)) continue;  // a flattened fold (resolveBorders)
       for (std::uint32_t v : {a, b, c}) {
         if (compact[v] == kUnused) {
           compact[v] = static_cast<std::uint32_t>(out.positions.size());

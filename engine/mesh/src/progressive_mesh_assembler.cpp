@@ -81,7 +81,7 @@ void ProgressiveMeshAssembler::collectTriangles() {
   m_corners.reserve(triangleCount * 3);
   for (std::size_t t = 0; t < triangleCount; ++t) {
     const std::uint32_t a = m_mesh.indices[3 * t], b = m_mesh.indices[3 * t + 1], c = m_mesh.indices[3 * t + 2];
-    if (a == b || b == c || a == c) continue;
+    if (isDegenerate(a, b, c)) continue;
     m_corners.insert(m_corners.end(), {a, b, c});
     m_owner.push_back(triangleRegion(m_partition, a, b, c));
   }
@@ -123,7 +123,7 @@ void ProgressiveMeshAssembler::replayStep(std::uint32_t region, std::uint32_t lo
       m_corners[k] = rep;
       if (m_vanishStep[t] == kNever) {
         changes.push_back({t, k % 3, v, rep});
-        if (isDegenerate(t)) {
+        if (hasDegenerated(t)) {
           m_vanishStep[t] = local;
           anyVanished = true;
         }
@@ -149,9 +149,8 @@ void ProgressiveMeshAssembler::replayStep(std::uint32_t region, std::uint32_t lo
   m_borderRecordedBegin[region].push_back(static_cast<std::uint32_t>(m_borderRecorded[region].size()));
 }
 
-bool ProgressiveMeshAssembler::isDegenerate(std::uint32_t t) const {
-  const std::uint32_t a = m_corners[3 * t], b = m_corners[3 * t + 1], c = m_corners[3 * t + 2];
-  return a == b || b == c || a == c;
+bool ProgressiveMeshAssembler::hasDegenerated(std::uint32_t t) const {
+  return isDegenerate(m_corners[3 * t], m_corners[3 * t + 1], m_corners[3 * t + 2]);
 }
 
 ProgressiveMesh ProgressiveMeshAssembler::finish() {

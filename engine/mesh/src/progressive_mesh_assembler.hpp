@@ -38,7 +38,7 @@ class ProgressiveMeshAssembler {
   void collectTriangles();
   void replayStep(std::uint32_t region, std::uint32_t local, std::span<const std::uint32_t> removed,
                   std::span<const std::uint32_t> onto);
-  bool isDegenerate(std::uint32_t t) const;
+  bool hasDegenerated(std::uint32_t t) const;  // its current corners repeat a vertex
 
   const TriangleMesh& m_mesh;
   const RegionPartition& m_partition;

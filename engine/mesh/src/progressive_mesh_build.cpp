@@ -15,26 +15,17 @@ namespace polder::mesh {
 
 namespace {
 
-// Steps in the caller's vertex ids, a batch at a time.
-struct StepBatch {
-  std::vector<std::uint32_t> representative, removedBegin{0}, removed, onto;
-  std::vector<float> error;
+// Empties a batch of steps, keeping its room.
+void clearSteps(SimplificationSteps& steps) {
+  steps.representative.clear(), steps.removed.clear(), steps.onto.clear(), steps.error.clear();
+  steps.removedBegin.assign(1, 0);
+}
 
-  std::size_t size() const { return representative.size(); }
-  bool empty() const { return representative.empty(); }
-  void clear() {
-    representative.clear(), removed.clear(), onto.clear(), error.clear();
-    removedBegin.assign(1, 0);
-  }
-  void append(const StepBatch& other) {
-    for (std::size_t s = 0; s < other.size(); ++s)
-      removedBegin.push_back(static_cast<std::uint32_t>(removed.size()) + other.removedBegin[s + 1]);
-    representative.insert(representative.end(), other.representative.begin(), other.representative.end());
-    removed.insert(removed.end(), other.removed.begin(), other.removed.end());
-    onto.insert(onto.end(), other.onto.begin(), other.onto.end());
-    error.insert(error.end(), other.error.begin(), other.error.end());
-  }
-};
+// Appends the steps of `more` to `steps`.
+void appendSteps(SimplificationSteps& steps, const SimplificationSteps& more) {
+  for (std::size_t s = 0; s < more.size(); ++s)
+    steps.add(more.representative[s], more.removedBy(s), more.ontoBy(s), more.error[s]);
+}
 
 // The builder's side fills a batch with each step, renamed to the caller's ids, and hands
 // full batches over; the assembler's side waits for them. Batches keep the locking rare
@@ -45,11 +36,12 @@ class StepHandover final : public StepListener {
 
   void stepTaken(const SimplificationSteps& steps) override {
     const std::size_t s = steps.size() - 1;
-    m_filling.representative.push_back(m_originalOf[steps.representative[s]]);
-    for (std::uint32_t v : steps.removedBy(s)) m_filling.removed.push_back(m_originalOf[v]);
-    for (std::uint32_t v : steps.ontoBy(s)) m_filling.onto.push_back(m_originalOf[v]);
-    m_filling.removedBegin.push_back(static_cast<std::uint32_t>(m_filling.removed.size()));
-    m_filling.error.push_back(steps.error[s]);
+    m_renamed.clear();
+    for (std::uint32_t v : steps.removedBy(s)) m_renamed.push_back(m_originalOf[v]);
+    for (std::uint32_t v : steps.ontoBy(s)) m_renamed.push_back(m_originalOf[v]);
+    const std::span<const std::uint32_t> renamed(m_renamed);
+    const std::size_t count = renamed.size() / 2;
+    m_filling.add(m_originalOf[steps.representative[s]], renamed.first(count), renamed.last(count), steps.error[s]);
     if (m_filling.size() >= kBatchSteps) handOver(false);
   }
 
@@ -58,10 +50,10 @@ class StepHandover final : public StepListener {
 
   // Waits for the next batch (into `batch`, which must be empty); false once the builder is
   // done and everything was taken.
-  bool take(StepBatch& batch) {
+  bool take(SimplificationSteps& batch) {
     std::unique_lock lock(m_mutex);
-    m_changed.wait(lock, [&] { return !m_ready.empty() || m_closed; });
-    if (m_ready.empty()) return false;
+    m_changed.wait(lock, [&] { return m_ready.size() > 0 || m_closed; });
+    if (m_ready.size() == 0) return false;
     std::swap(batch, m_ready);
     return true;
   }
@@ -72,19 +64,20 @@ class StepHandover final : public StepListener {
   void handOver(bool last) {
     {
       std::lock_guard lock(m_mutex);
-      if (m_ready.empty()) std::swap(m_ready, m_filling);
-      else m_ready.append(m_filling);  // the assembler is behind
+      if (m_ready.size() == 0) std::swap(m_ready, m_filling);
+      else appendSteps(m_ready, m_filling);  // the assembler is behind
       m_closed = last;
     }
     m_changed.notify_one();
-    m_filling.clear();
+    clearSteps(m_filling);
   }
 
   std::span<const std::uint32_t> m_originalOf;
-  StepBatch m_filling;  // the builder's thread only
+  SimplificationSteps m_filling;        // the builder's thread only, in the caller's ids
+  std::vector<std::uint32_t> m_renamed;  // stepTaken's room: removed, then onto
   std::mutex m_mutex;
   std::condition_variable m_changed;
-  StepBatch m_ready;  // guarded by m_mutex
+  SimplificationSteps m_ready;  // guarded by m_mutex
   bool m_closed = false;
 };
 
@@ -99,22 +92,18 @@ Result<ProgressiveMesh> buildAndAssemble(const TriangleMesh& mesh, const RegionP
     try {
       ProgressiveMeshAssembler assembler(mesh, partition);
       Status status = assembler.begin();
-      StepBatch batch;
+      SimplificationSteps batch;
       while (handover.take(batch)) {
-        for (std::size_t s = 0; s < batch.size() && status; ++s) {
-          const std::span<const std::uint32_t> removed(batch.removed.data() + batch.removedBegin[s],
-                                                       batch.removedBegin[s + 1] - batch.removedBegin[s]);
-          const std::span<const std::uint32_t> onto(batch.onto.data() + batch.removedBegin[s], removed.size());
-          status = assembler.addStep(batch.representative[s], removed, onto, batch.error[s]);
-        }
-        batch.clear();
+        for (std::size_t s = 0; s < batch.size() && status; ++s)
+          status = assembler.addStep(batch.representative[s], batch.removedBy(s), batch.ontoBy(s), batch.error[s]);
+        clearSteps(batch);
       }
       if (status) assembled.emplace(assembler.finish());
       else assembled.emplace(status.error());
     } catch (...) {
       assemblerFailure = std::current_exception();
-      StepBatch rest;  // keep draining so the builder's side is never left waiting
-      while (handover.take(rest)) rest.clear();
+      SimplificationSteps rest;  // keep draining so the builder's side is never left waiting
+      while (handover.take(rest)) clearSteps(rest);
     }
   };
   std::thread assembling;

@@ -92,7 +92,7 @@ void ProgressiveMeshInstance::flattenFoldedPairs(std::uint32_t region) {
     lastTriangle = t;
     const std::uint32_t c = state.indices[corner.slot];
     const std::uint32_t a = state.indices[3 * t + (k + 1) % 3], b = state.indices[3 * t + (k + 2) % 3];
-    if (a == b || a == c || b == c) continue;
+    if (isDegenerate(a, b, c)) continue;
     state.borderTriangles.push_back({c, std::min(a, b), std::max(a, b), corner.slot, a < b});
   }
   auto key = [](const BorderTriangle& t) { return std::tie(t.foreign, t.lower, t.higher); };

@@ -99,7 +99,7 @@ void weldPositions(mesh::TriangleMesh& mesh, bool keepUvSeams) {
   std::size_t kept = 0;
   for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
     const std::uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
-    if (a == b || b == c || a == c) continue;
+    if (mesh::isDegenerate(a, b, c)) continue;
     mesh.indices[kept++] = a;
     mesh.indices[kept++] = b;
     mesh.indices[kept++] = c;

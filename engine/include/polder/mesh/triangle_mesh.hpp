@@ -28,6 +28,9 @@ struct TriangleMesh {
   bool hasUvs() const { return !uvs.empty(); }
 };
 
+// Whether a triangle repeats a vertex (it has no area to draw and no edges of its own).
+inline bool isDegenerate(std::uint32_t a, std::uint32_t b, std::uint32_t c) { return a == b || b == c || a == c; }
+
 // Checks the invariants above plus finite positions and indices in range. `what` names the
 // mesh (usually its file) in the error message.
 Status validateMesh(const TriangleMesh& mesh, const std::string& what);
