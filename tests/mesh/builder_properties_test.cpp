@@ -189,7 +189,7 @@ TEST_P(BuilderProperties, StepsDoNotDependOnTheInputsNumbering) {
   // The same coloured surface (with a texture seam) cut into regions, with its vertices
   // renumbered, its triangles reordered and their corners turned: the same steps, renamed,
   // with the same errors.
-  TriangleMesh sphere = test::seamedSphere(16, 20);
+  TriangleMesh sphere = test::seamedSphere(24, 28);  // large enough for the cluster builder's rounds
   for (const glm::vec3& p : sphere.positions)
     sphere.colours.emplace_back(p.x > 0.3f ? 1.0f : 0.2f, 0.5f + 0.4f * p.z, 0.3f, 1.0f);
   const RegionPartition partition = automaticPartition(sphere.positions, 4);
@@ -242,11 +242,12 @@ TEST_P(BuilderProperties, StepsDoNotDependOnTheInputsNumbering) {
 // builders move the seam's twins together, so the seam coarsens too; twins that regions
 // given per vertex put apart never move.
 TEST_P(BuilderProperties, TextureSeamNeverOpens) {
-  const TriangleMesh sphere = test::seamedSphere(18, 24);
-  const std::uint32_t seamVertices = 2 * (18 - 1);
+  const std::uint32_t rings = 24, segments = 28;  // large enough for the cluster builder's rounds
+  const TriangleMesh sphere = test::seamedSphere(rings, segments);
+  const std::uint32_t seamVertices = 2 * (rings - 1);
   auto onSeam = [](const glm::vec3& p) { return p.y == 0.0f && p.x > 0.0f; };
   RegionPartition twinsApart{2, std::vector<std::uint32_t>(sphere.vertexCount(), 0)};
-  for (auto v = static_cast<std::uint32_t>(test::bumpySphere(18, 24).vertexCount()); v < sphere.vertexCount(); ++v)
+  for (auto v = static_cast<std::uint32_t>(test::bumpySphere(rings, segments).vertexCount()); v < sphere.vertexCount(); ++v)
     twinsApart.vertexRegion[v] = 1;  // the seam's west copies
   {
     const auto steps = GetParam().build(sphere, twinsApart);

@@ -33,6 +33,11 @@ class IndexedMinHeap {
     else siftDown(at);
   }
 
+  void clear() {
+    for (const Entry& entry : m_heap) m_position[entry.item] = kAbsent;
+    m_heap.clear();
+  }
+
   void remove(std::uint32_t item) {
     const std::uint32_t at = m_position[item];
     if (at == kAbsent) return;

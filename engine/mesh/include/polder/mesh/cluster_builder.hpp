@@ -26,6 +26,12 @@
 // start at tau0 (the seed's uniform subdivision of the bounding box); a representative
 // with nothing to gather in its cell grows it by `cellGrowth`, so cheap parts coarsen in
 // larger cells while costly ones wait, until the cell covers the bounding box.
+//
+// A large mesh is simplified in rounds by two threads at once, each on its own piece of
+// the surface (a range of vertices in locality order) while the vertices between the
+// pieces wait for the next round, which cuts elsewhere; each round's steps are merged
+// cheapest first. The steps never depend on the threads' timing, and are the same where
+// no second thread starts. The last few hundred vertices go in the exact queue order.
 #pragma once
 
 #include <cstdint>

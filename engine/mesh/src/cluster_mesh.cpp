@@ -1,0 +1,296 @@
+#include "cluster_mesh.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <utility>
+
+#include "builder_setup.hpp"
+#include "triangle_planes.hpp"
+
+namespace polder::mesh::cluster {
+
+namespace {
+
+// Planes through boundary edges hold the outline: this times the edge length squared (the
+// collapse builder's boundaryWeight).
+constexpr double kBoundaryWeight = 4.0;
+// Sharp edges and outlines that span less than this many mean edge lengths are noise.
+constexpr double kSmallestFeatureEdges = 4.0;
+// Neighbours whose RGB colours differ by more than this lie on a colour border.
+constexpr double kColourBorderTolerance = 0.2;
+
+struct Edge {
+  std::uint32_t a, b;
+};
+
+// One side of an edge (lo, hi), lo < hi, of the original mesh, for classification (lo is
+// implied).
+struct EdgeSide {
+  std::uint32_t hi, triangle;
+  bool forward;  // the triangle runs lo -> hi
+};
+
+// Disjoint sets of vertices (path halving).
+class UnionFind {
+ public:
+  explicit UnionFind(std::uint32_t size) : m_parent(size) { std::iota(m_parent.begin(), m_parent.end(), 0u); }
+  std::uint32_t find(std::uint32_t v) {
+    while (m_parent[v] != v) v = m_parent[v] = m_parent[m_parent[v]];
+    return v;
+  }
+  void join(std::uint32_t a, std::uint32_t b) { m_parent[find(a)] = find(b); }
+
+ private:
+  std::vector<std::uint32_t> m_parent;
+};
+
+class ClusterMeshSetup {
+ public:
+  ClusterMeshSetup(const TriangleMesh& input, const RegionPartition& partition, const ClusterOptions& options,
+                   ClusterMesh& mesh)
+      : m_input(input), m_partition(partition), m_options(options), m_mesh(mesh) {}
+
+  void run() {
+    m_mesh.vertexCount = static_cast<std::uint32_t>(m_input.vertexCount());
+    NormalizedPositions normalized = normalizePositions(m_input.positions);
+    m_mesh.diagonal = normalized.diagonal;
+    m_mesh.position = std::move(normalized.positions);
+    const glm::dvec3 extent = normalized.extent;
+    // A cell of twice the largest extent covers the bounding box wherever it is centred.
+    m_mesh.cellLimit = 2.0 * std::max(extent.x, std::max(extent.y, extent.z)) + 1e-9;
+
+    // Live triangles (degenerate input ones are skipped) and fans.
+    m_mesh.corner = liveTriangleCorners(m_input);
+    m_mesh.fan.build(m_mesh.vertexCount, m_mesh.corner);
+    const auto triangleCount = static_cast<std::uint32_t>(m_mesh.corner.size() / 3);
+    m_mesh.liveTriangles = triangleCount;
+    m_mesh.triangleAlive.assign(triangleCount, 1);
+
+    m_mesh.quadric.assign(m_mesh.vertexCount, Quadric{});
+    std::vector<glm::dvec3> faceNormal(triangleCount, glm::dvec3(0.0));
+    for (std::uint32_t t = 0; t < triangleCount; ++t)
+      faceNormal[t] = addTriangleQuadric(m_mesh.position, &m_mesh.corner[3 * t], m_mesh.quadric);
+    setUpColours();
+    const double meanEdge = classify(faceNormal);
+
+    m_mesh.alive.assign(m_mesh.vertexCount, 1);
+    m_mesh.queuedKey.assign(m_mesh.vertexCount, std::numeric_limits<float>::quiet_NaN());
+    m_mesh.stale.assign(m_mesh.vertexCount, 1);
+    // Seed: cells start as a uniform subdivision of the bounding box with size tau0.
+    const double tau0 = m_options.initialCellFraction > 0.0 ? m_options.initialCellFraction : 2.0 * meanEdge;
+    m_mesh.cell.assign(m_mesh.vertexCount, std::min(std::max(tau0, 1e-12), m_mesh.cellLimit));
+  }
+
+ private:
+  // Area-weighted colour moments per cluster, so a cluster's squared colour deviation from
+  // any colour costs O(1) (as in the collapse builder).
+  void setUpColours() {
+    m_mesh.useColours = m_input.hasColours() && m_options.colourWeight > 0.0;
+    if (!m_mesh.useColours) return;
+    m_mesh.colourTolerance = kColourBorderTolerance * m_options.colourWeight;
+    m_mesh.colour.resize(m_mesh.vertexCount);
+    for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v)
+      m_mesh.colour[v] = glm::dvec3(m_input.colours[v]) * m_options.colourWeight;
+    m_mesh.moment0.assign(m_mesh.vertexCount, 0.0);
+    for (std::uint32_t t = 0; t < m_mesh.corner.size() / 3; ++t) {
+      const double third = glm::length(triangleCross(m_mesh.position, &m_mesh.corner[3 * t])) / 6.0;  // of its area
+      for (int k = 0; k < 3; ++k) m_mesh.moment0[m_mesh.corner[3 * t + k]] += third;
+    }
+    m_mesh.moment1.resize(m_mesh.vertexCount);
+    m_mesh.moment2.resize(m_mesh.vertexCount);
+    for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) {
+      m_mesh.moment1[v] = m_mesh.moment0[v] * m_mesh.colour[v];
+      m_mesh.moment2[v] = m_mesh.moment0[v] * glm::dot(m_mesh.colour[v], m_mesh.colour[v]);
+    }
+  }
+
+  // Classifies every vertex into the seed's categories from the edges around it, labels
+  // feature lines, adds boundary planes; returns the mean edge length.
+  double classify(const std::vector<glm::dvec3>& faceNormal) {
+    m_mesh.featureCosine = std::cos(m_options.featureAngleDegrees * 3.14159265358979323846 / 180.0);
+    std::vector<std::uint32_t> neighbours(m_mesh.vertexCount, 0);
+    std::vector<std::uint8_t> nonManifold(m_mesh.vertexCount, 0);
+    m_mesh.closedAround.assign(m_mesh.vertexCount, 1);
+    std::vector<Edge> sharpEdges, boundaryEdges;
+    m_mesh.colourBorder.assign(m_mesh.vertexCount, 0);
+    double edgeLengthSum = 0.0;
+    std::size_t edgeCount = 0;
+    // Each edge (a, b), a < b, once: from a's fan, with its sides.
+    std::vector<EdgeSide> sides;
+    for (std::uint32_t a = 0; a < m_mesh.vertexCount; ++a) {
+      sides.clear();
+      for (std::uint32_t t : m_mesh.fan[a]) {
+        const std::uint32_t* c = &m_mesh.corner[3 * t];
+        if (const std::uint32_t after = cornerAfter(c, a); after > a) sides.push_back({after, t, true});
+        if (const std::uint32_t before = cornerBefore(c, a); before > a) sides.push_back({before, t, false});
+      }
+      std::sort(sides.begin(), sides.end(), [](const EdgeSide& x, const EdgeSide& y) { return x.hi < y.hi; });
+      for (std::size_t i = 0; i < sides.size();) {
+        std::size_t j = i + 1;
+        while (j < sides.size() && sides[j].hi == sides[i].hi) ++j;
+        const std::uint32_t b = sides[i].hi;
+        ++neighbours[a], ++neighbours[b];
+        if (j - i != 2 || sides[i].forward == sides[i + 1].forward) m_mesh.closedAround[a] = m_mesh.closedAround[b] = 0;
+        edgeLengthSum += glm::length(m_mesh.position[a] - m_mesh.position[b]);
+        ++edgeCount;
+        if (j - i == 1) {
+          boundaryEdges.push_back({a, b});
+          addBoundaryEdgeQuadric(m_mesh.position[a], m_mesh.position[b], faceNormal[sides[i].triangle], kBoundaryWeight,
+                                 m_mesh.quadric[a], m_mesh.quadric[b]);
+        } else if (j - i == 2) {
+          const glm::dvec3 n0 = faceNormal[sides[i].triangle];
+          // Two consistently oriented triangles run the edge in opposite directions.
+          const double flip = sides[i].forward != sides[i + 1].forward ? 1.0 : -1.0;
+          const glm::dvec3 n1 = faceNormal[sides[i + 1].triangle] * flip;
+          if (glm::dot(n0, n0) > 0.0 && glm::dot(n1, n1) > 0.0 && glm::dot(n0, n1) < m_mesh.featureCosine)
+            sharpEdges.push_back({a, b});
+        } else {
+          nonManifold[a] = nonManifold[b] = 1;
+        }
+        if (m_mesh.useColours && m_mesh.coloursDiffer(a, b)) m_mesh.colourBorder[a] = m_mesh.colourBorder[b] = 1;
+        i = j;
+      }
+    }
+    const double meanEdge = edgeCount > 0 ? edgeLengthSum / double(edgeCount) : 1.0;
+
+    // Sharp edges that only make a small knot (a spike, a crease of scanner noise) are no
+    // feature: they would lock one another for good. Nor do the turns of a small hole's
+    // outline make corners.
+    const double smallestFeature = kSmallestFeatureEdges * meanEdge;
+    dropSmallComponents(sharpEdges, smallestFeature);
+    std::vector<Edge> outlineTurns = boundaryEdges;
+    dropSmallComponents(outlineTurns, smallestFeature);
+    std::vector<std::uint8_t> cornersByTurn(m_mesh.vertexCount, 0);
+    for (const Edge& e : outlineTurns) cornersByTurn[e.a] = cornersByTurn[e.b] = 1;
+
+    // Per vertex: its boundary and sharp edges, and the first two neighbours along them.
+    std::vector<std::uint32_t> boundaryCount(m_mesh.vertexCount, 0), sharpCount(m_mesh.vertexCount, 0);
+    std::vector<std::uint32_t> boundaryNeighbour(2 * std::size_t(m_mesh.vertexCount), kNone);
+    std::vector<std::uint32_t> sharpNeighbour(2 * std::size_t(m_mesh.vertexCount), kNone);
+    auto count = [](const std::vector<Edge>& edges, std::vector<std::uint32_t>& counts,
+                    std::vector<std::uint32_t>& slots) {
+      for (const Edge& e : edges)
+        for (auto [v, x] : {std::pair{e.a, e.b}, std::pair{e.b, e.a}}) {
+          if (counts[v] < 2) slots[2 * v + counts[v]] = x;
+          ++counts[v];
+        }
+    };
+    count(boundaryEdges, boundaryCount, boundaryNeighbour);
+    count(sharpEdges, sharpCount, sharpNeighbour);
+
+    // A line through v turns sharply when its two edges are far from collinear.
+    auto turns = [&](std::uint32_t v, const std::vector<std::uint32_t>& slots) {
+      return m_mesh.turnsSharply(slots[2 * v], v, slots[2 * v + 1]);
+    };
+    m_mesh.vertexClass.assign(m_mesh.vertexCount, VertexClass::Complex);
+    for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) {
+      const auto triangles = static_cast<std::uint32_t>(m_mesh.fan[v].size());  // all alive at set-up
+      if (triangles == 0 || nonManifold[v]) continue;
+      const bool closedDisk =
+          boundaryCount[v] == 0 && neighbours[v] == triangles && m_mesh.closedAround[v] && fanIsOneCycle(v);
+      const bool openDisk = boundaryCount[v] == 2 && neighbours[v] == triangles + 1;
+      if (openDisk) {
+        const bool corner = sharpCount[v] > 0 || (cornersByTurn[v] && turns(v, boundaryNeighbour));
+        m_mesh.vertexClass[v] = corner ? VertexClass::Corner : VertexClass::Boundary;
+      } else if (closedDisk) {
+        if (sharpCount[v] == 0)
+          m_mesh.vertexClass[v] = VertexClass::Simple;
+        else if (sharpCount[v] == 1)
+          m_mesh.vertexClass[v] = VertexClass::SharpEdge;  // where a crease fades out
+        else if (sharpCount[v] == 2 && !turns(v, sharpNeighbour))
+          m_mesh.vertexClass[v] = VertexClass::SharpEdge;
+        else
+          m_mesh.vertexClass[v] = VertexClass::Corner;
+      }
+    }
+    classifySeams();
+    labelLines(sharpEdges);
+    return meanEdge;
+  }
+
+  // A vertex split across a texture seam has a twin at its position on the seam's other
+  // side. Where both are boundary vertices of the split surface (the seam runs straight on
+  // through them) they are Seam vertices, which move together (addTwins); twins in any
+  // other arrangement, and positions held by three or more vertices, stay put, since
+  // gathering one alone would part the seam's sides.
+  void classifySeams() {
+    m_mesh.twin = positionTwins(m_input.positions);
+    const std::vector<std::uint32_t> held = keepSeamTwins(
+        m_mesh.twin, m_partition, [&](std::uint32_t v) { return m_mesh.vertexClass[v] == VertexClass::Boundary; });
+    for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v)
+      if (m_mesh.twin[v] != kNoTwin) m_mesh.vertexClass[v] = VertexClass::Seam;
+    for (std::uint32_t v : held) m_mesh.vertexClass[v] = VertexClass::Complex;
+  }
+
+  // Whether v's triangles (every edge at v run both ways) make one cycle around it, each
+  // triangle's corner after v being the next one's corner before v: a consistently wound
+  // disk, where two fans pinched together at v make two cycles.
+  bool fanIsOneCycle(std::uint32_t v) const {
+    const std::span<const std::uint32_t> fan = m_mesh.fan[v];
+    std::size_t length = 0;
+    std::uint32_t t = fan.front();
+    do {
+      const std::uint32_t after = cornerAfter(&m_mesh.corner[3 * t], v);
+      auto startsAtAfter = [&](std::uint32_t u) { return cornerBefore(&m_mesh.corner[3 * u], v) == after; };
+      const auto next = std::find_if(fan.begin(), fan.end(), startsAtAfter);
+      if (next == fan.end()) return false;
+      t = *next;
+      ++length;
+    } while (t != fan.front() && length < fan.size());
+    return t == fan.front() && length == fan.size();
+  }
+
+  // Removes the edges of connected components (through shared vertices) whose bounding
+  // box is smaller than `smallest` across.
+  void dropSmallComponents(std::vector<Edge>& edges, double smallest) {
+    UnionFind components(m_mesh.vertexCount);
+    for (const Edge& e : edges) components.join(e.a, e.b);
+    std::vector<glm::dvec3> lo(m_mesh.vertexCount, glm::dvec3(std::numeric_limits<double>::max()));
+    std::vector<glm::dvec3> hi(m_mesh.vertexCount, glm::dvec3(std::numeric_limits<double>::lowest()));
+    for (const Edge& e : edges)
+      for (std::uint32_t v : {e.a, e.b}) {
+        const std::uint32_t c = components.find(v);
+        lo[c] = glm::min(lo[c], m_mesh.position[v]);
+        hi[c] = glm::max(hi[c], m_mesh.position[v]);
+      }
+    std::erase_if(edges, [&](const Edge& e) {
+      const std::uint32_t c = components.find(e.a);
+      return glm::length(hi[c] - lo[c]) < smallest;
+    });
+  }
+
+  // Feature lines: sharp edges joined through sharp-edge vertices (corners split them);
+  // corners remember the lines that end at them, so they may gather along those.
+  void labelLines(const std::vector<Edge>& sharpEdges) {
+    UnionFind lines(m_mesh.vertexCount);
+    for (const Edge& e : sharpEdges)
+      if (m_mesh.vertexClass[e.a] == VertexClass::SharpEdge && m_mesh.vertexClass[e.b] == VertexClass::SharpEdge)
+        lines.join(e.a, e.b);
+    m_mesh.line.resize(m_mesh.vertexCount);
+    for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) m_mesh.line[v] = lines.find(v);
+    for (const Edge& e : sharpEdges) {
+      if (m_mesh.vertexClass[e.a] == VertexClass::Corner && m_mesh.vertexClass[e.b] == VertexClass::SharpEdge)
+        m_mesh.cornerLines.push_back(ClusterMesh::lineKey(e.a, m_mesh.line[e.b]));
+      if (m_mesh.vertexClass[e.b] == VertexClass::Corner && m_mesh.vertexClass[e.a] == VertexClass::SharpEdge)
+        m_mesh.cornerLines.push_back(ClusterMesh::lineKey(e.b, m_mesh.line[e.a]));
+    }
+    std::sort(m_mesh.cornerLines.begin(), m_mesh.cornerLines.end());
+  }
+
+  const TriangleMesh& m_input;
+  const RegionPartition& m_partition;
+  const ClusterOptions& m_options;
+  ClusterMesh& m_mesh;
+};
+
+}  // namespace
+
+ClusterMesh setUpClusterMesh(const TriangleMesh& input, const RegionPartition& partition,
+                             const ClusterOptions& options) {
+  ClusterMesh mesh;
+  ClusterMeshSetup(input, partition, options, mesh).run();
+  return mesh;
+}
+
+}  // namespace polder::mesh::cluster

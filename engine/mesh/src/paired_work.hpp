@@ -1,0 +1,96 @@
+// Runs two halves of a job at once, many times over: half 0 on the calling thread, half 1
+// on a helper thread kept waiting between jobs (a thread started per job may wait
+// milliseconds for a core of its own). Where no helper thread starts, the halves run one
+// after the other, which must give the same result. An exception from either half comes
+// back to the caller, after both halves ended.
+#pragma once
+
+#include <condition_variable>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <system_error>
+#include <thread>
+
+namespace polder::mesh {
+
+class PairedWork {
+ public:
+  PairedWork() {
+    try {
+      m_helper = std::thread([this] { serve(); });
+    } catch (const std::system_error&) {
+    }
+  }
+
+  ~PairedWork() {
+    if (!m_helper.joinable()) return;
+    {
+      std::lock_guard lock(m_mutex);
+      m_closing = true;
+    }
+    m_changed.notify_all();
+    m_helper.join();
+  }
+
+  PairedWork(const PairedWork&) = delete;
+  PairedWork& operator=(const PairedWork&) = delete;
+
+  // Calls half(0) and half(1), at once where the helper thread runs.
+  void run(const std::function<void(int)>& half) {
+    if (!m_helper.joinable()) {
+      half(0);
+      half(1);
+      return;
+    }
+    {
+      std::lock_guard lock(m_mutex);
+      m_half = &half;
+      m_helperFailed = nullptr;
+      m_pending = true;
+    }
+    m_changed.notify_all();
+    std::exception_ptr failed;
+    try {
+      half(0);
+    } catch (...) {
+      failed = std::current_exception();
+    }
+    std::unique_lock lock(m_mutex);
+    m_changed.wait(lock, [&] { return !m_pending; });
+    if (!failed) failed = m_helperFailed;
+    lock.unlock();
+    if (failed) std::rethrow_exception(failed);
+  }
+
+ private:
+  void serve() {
+    std::unique_lock lock(m_mutex);
+    for (;;) {
+      m_changed.wait(lock, [&] { return m_pending || m_closing; });
+      if (!m_pending) return;
+      const std::function<void(int)>& half = *m_half;
+      lock.unlock();
+      std::exception_ptr failed;
+      try {
+        half(1);
+      } catch (...) {
+        failed = std::current_exception();
+      }
+      lock.lock();
+      m_helperFailed = failed;
+      m_pending = false;
+      m_changed.notify_all();
+    }
+  }
+
+  std::thread m_helper;
+  std::mutex m_mutex;
+  std::condition_variable m_changed;
+  const std::function<void(int)>* m_half = nullptr;  // guarded by m_mutex
+  bool m_pending = false;                            // a half(1) to run or running
+  bool m_closing = false;
+  std::exception_ptr m_helperFailed;
+};
+
+}  // namespace polder::mesh
