@@ -50,13 +50,14 @@ class ClusterBuilder {
     steps.onto.reserve(vertexCount);
     steps.removedBegin.reserve(vertexCount / 2 + 1);
     steps.error.reserve(vertexCount / 2);
-    m_aliveVertices = vertexCount;
+    m_aliveVertices = static_cast<std::uint32_t>(std::count(m_mesh.alive.begin(), m_mesh.alive.end(), 1));
+    m_startVertices = m_aliveVertices;
     m_part.assign(vertexCount, 0);
     ClusterWorker first(m_mesh, m_partition, m_options);
-    if (vertexCount >= 2 * kRoundsDownTo) runRounds(first, steps);
+    if (m_aliveVertices >= 2 * kRoundsDownTo) runRounds(first, steps);
 
     // The rest with one worker on the whole mesh, reporting progress every so often.
-    const std::uint32_t reportEvery = std::max<std::uint32_t>(1, vertexCount / 64);
+    const std::uint32_t reportEvery = std::max<std::uint32_t>(1, m_startVertices / 64);
     std::fill(m_part.begin(), m_part.end(), std::uint8_t(0));
     first.beginRound(m_part, 0);
     for (;;) {
@@ -75,7 +76,7 @@ class ClusterBuilder {
 
   void reportProgress(std::uint32_t removed) {
     m_aliveVertices -= removed;
-    if (m_options.progress) m_options.progress(1.0 - double(m_aliveVertices) / double(m_mesh.vertexCount));
+    if (m_options.progress) m_options.progress(1.0 - double(m_aliveVertices) / double(m_startVertices));
   }
 
   void runRounds(ClusterWorker& first, SimplificationSteps& steps) {
@@ -88,6 +89,7 @@ class ClusterBuilder {
       const std::uint32_t triangleQuota = triangleSurplus() / 4;
       if (triangleQuota < kRoundsDownTo) break;
       const std::array<std::uint32_t, 2> partSize = splitIntoParts(round);
+      if (partSize[0] + partSize[1] < m_aliveVertices / 2) break;  // a coarse mesh: mostly cut
       std::array<std::uint32_t, 2> removed{};
       auto work = [&](int w) {
         ClusterWorker& worker = *workers[w];
@@ -167,6 +169,7 @@ class ClusterBuilder {
   const ClusterOptions& m_options;
   StepListener* m_listener;  // may be null
   ClusterMesh m_mesh;
+  std::uint32_t m_startVertices = 0;  // on a triangle at the start
   std::uint32_t m_aliveVertices = 0;
   std::vector<std::uint8_t> m_part;  // per vertex this round: 0, 1 or kBetweenParts
   std::array<SimplificationSteps, 2> m_roundSteps;

@@ -74,8 +74,10 @@ class ClusterMeshSetup {
     setUpColours();
     const double meanEdge = classify(faceNormal);
 
-    m_mesh.alive.assign(m_mesh.vertexCount, 1);
-    m_mesh.queuedKey.assign(m_mesh.vertexCount, std::numeric_limits<float>::quiet_NaN());
+    // Vertices on no triangle take no part.
+    m_mesh.alive.resize(m_mesh.vertexCount);
+    for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) m_mesh.alive[v] = !m_mesh.fan[v].empty();
+    m_mesh.queuedKey.assign(m_mesh.vertexCount, 0.0f);
     m_mesh.stale.assign(m_mesh.vertexCount, 1);
     // Seed: cells start as a uniform subdivision of the bounding box with size tau0.
     const double tau0 = m_options.initialCellFraction > 0.0 ? m_options.initialCellFraction : 2.0 * meanEdge;

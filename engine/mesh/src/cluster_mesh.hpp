@@ -58,8 +58,8 @@ struct ClusterMesh {
   std::vector<std::uint64_t> cornerLines;  // sorted lineKey(corner, line) of lines ending at corners
   std::vector<std::uint8_t> alive;
   std::vector<double> cell;  // per vertex: its floating cell's size tau
-  // Between rounds: each alive vertex's queue key (NaN when it has nothing to gather), and
-  // whether it must be evaluated afresh (it was out of every worker's part).
+  // Between rounds: whether a vertex must be evaluated afresh (it was out of every
+  // worker's part, or had nothing to gather), and else its queue key.
   std::vector<float> queuedKey;
   std::vector<std::uint8_t> stale;
 

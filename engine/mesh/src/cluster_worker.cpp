@@ -67,8 +67,8 @@ void ClusterWorker::beginRound(std::span<const std::uint8_t> part, std::uint8_t 
     if (m_mesh.stale[v]) {
       m_mesh.stale[v] = 0;
       if (evaluate(v, Evaluation::FirstRing)) m_queue.set(v, queueKey());
-    } else if (const float key = m_mesh.queuedKey[v]; !std::isnan(key)) {
-      m_queue.set(v, key);
+    } else {
+      m_queue.set(v, m_mesh.queuedKey[v]);
     }
   }
 }
@@ -96,9 +96,12 @@ std::uint32_t ClusterWorker::takeSteps(std::uint32_t vertexQuota, std::uint32_t 
 }
 
 void ClusterWorker::endRound(std::span<const std::uint8_t> part, std::uint8_t own) {
-  for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v)
-    if (part[v] == own && m_mesh.alive[v])
-      m_mesh.queuedKey[v] = m_queue.contains(v) ? m_queue.key(v) : std::numeric_limits<float>::quiet_NaN();
+  // A vertex with nothing to gather may have been held up by vertices out of the part.
+  for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) {
+    if (part[v] != own || !m_mesh.alive[v]) continue;
+    if (m_queue.contains(v)) m_mesh.queuedKey[v] = m_queue.key(v);
+    else m_mesh.stale[v] = 1;
+  }
 }
 
 // Seed step 1 with a lazy queue: the neighbourhood of an entry may have changed since it

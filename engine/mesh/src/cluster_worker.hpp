@@ -41,7 +41,8 @@ class ClusterWorker {
   // Triangles removed since the round began.
   std::uint32_t trianglesRemoved() const { return m_trianglesRemoved; }
 
-  // Ends the round: the queue keys of the worker's part go back to the mesh.
+  // Ends the round: the queue keys of the worker's part go back to the mesh; vertices with
+  // nothing to gather are evaluated again next round.
   void endRound(std::span<const std::uint8_t> part, std::uint8_t own);
 
  private:
