@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -41,7 +42,7 @@ class ClusterBuilder {
       : m_input(mesh), m_partition(partition), m_options(options), m_listener(listener) {}
 
   SimplificationSteps run() {
-    m_mesh = cluster::setUpClusterMesh(m_input, m_partition, m_options);
+    m_mesh = cluster::setUpClusterMesh(m_input, m_partition, m_options, m_pair);
     SimplificationSteps steps;
     if (m_mesh.liveTriangles == 0) return steps;
     const std::uint32_t vertexCount = m_mesh.vertexCount;
@@ -53,15 +54,19 @@ class ClusterBuilder {
     m_aliveVertices = static_cast<std::uint32_t>(std::count(m_mesh.alive.begin(), m_mesh.alive.end(), 1));
     m_startVertices = m_aliveVertices;
     m_part.assign(vertexCount, 0);
-    ClusterWorker first(m_mesh, m_partition, m_options);
-    if (m_aliveVertices >= 2 * kRoundsDownTo) runRounds(first, steps);
+    const bool rounds = m_aliveVertices >= 2 * kRoundsDownTo;
+    std::array<std::optional<ClusterWorker>, 2> worker;
+    m_pair.run([&](int w) {
+      if (w == 0 || rounds) worker[w].emplace(m_mesh, m_partition, m_options);
+    });
+    if (rounds) runRounds(*worker[0], *worker[1], steps);
 
     // The rest with one worker on the whole mesh, reporting progress every so often.
     const std::uint32_t reportEvery = std::max<std::uint32_t>(1, m_startVertices / 64);
     std::fill(m_part.begin(), m_part.end(), std::uint8_t(0));
-    first.beginRound(m_part, 0);
+    worker[0]->beginRound(m_part, 0);
     for (;;) {
-      const std::uint32_t removed = first.takeSteps(reportEvery, triangleSurplus(), steps, nullptr, m_listener);
+      const std::uint32_t removed = worker[0]->takeSteps(reportEvery, triangleSurplus(), steps, nullptr, m_listener);
       reportProgress(removed);
       if (removed < reportEvery) break;
     }
@@ -79,10 +84,8 @@ class ClusterBuilder {
     if (m_options.progress) m_options.progress(1.0 - double(m_aliveVertices) / double(m_startVertices));
   }
 
-  void runRounds(ClusterWorker& first, SimplificationSteps& steps) {
-    ClusterWorker second(m_mesh, m_partition, m_options);
-    std::array<ClusterWorker*, 2> workers{&first, &second};
-    PairedWork pair;
+  void runRounds(ClusterWorker& first, ClusterWorker& second, SimplificationSteps& steps) {
+    const std::array<ClusterWorker*, 2> workers{&first, &second};
     for (std::uint32_t round = 0; m_aliveVertices >= kRoundsDownTo; ++round) {
       // Each worker may remove a quarter of the triangles left to remove: together they
       // never pass stopAtTriangles.
@@ -100,7 +103,7 @@ class ClusterBuilder {
         removed[w] = worker.takeSteps(quota, triangleQuota, m_roundSteps[w], &m_roundKeys[w], nullptr);
         worker.endRound(m_part, static_cast<std::uint8_t>(w));
       };
-      pair.run(work);
+      m_pair.run(work);
       mergeRoundSteps(steps);
       for (const ClusterWorker* worker : workers) m_mesh.liveTriangles -= worker->trianglesRemoved();
       for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v)
@@ -168,6 +171,7 @@ class ClusterBuilder {
   const RegionPartition& m_partition;
   const ClusterOptions& m_options;
   StepListener* m_listener;  // may be null
+  PairedWork m_pair;  // the helper thread, for the set-up and the rounds
   ClusterMesh m_mesh;
   std::uint32_t m_startVertices = 0;  // on a triangle at the start
   std::uint32_t m_aliveVertices = 0;

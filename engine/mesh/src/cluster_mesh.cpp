@@ -1,6 +1,7 @@
 #include "cluster_mesh.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <utility>
@@ -48,8 +49,8 @@ class UnionFind {
 class ClusterMeshSetup {
  public:
   ClusterMeshSetup(const TriangleMesh& input, const RegionPartition& partition, const ClusterOptions& options,
-                   ClusterMesh& mesh)
-      : m_input(input), m_partition(partition), m_options(options), m_mesh(mesh) {}
+                   PairedWork& pair, ClusterMesh& mesh)
+      : m_input(input), m_partition(partition), m_options(options), m_pair(pair), m_mesh(mesh) {}
 
   void run() {
     m_mesh.vertexCount = static_cast<std::uint32_t>(m_input.vertexCount());
@@ -60,17 +61,33 @@ class ClusterMeshSetup {
     // A cell of twice the largest extent covers the bounding box wherever it is centred.
     m_mesh.cellLimit = 2.0 * std::max(extent.x, std::max(extent.y, extent.z)) + 1e-9;
 
-    // Live triangles (degenerate input ones are skipped) and fans.
+    // Live triangles (degenerate input ones are skipped), fans and planes; each vertex's
+    // quadric sums its fan's planes in triangle order, as adding each triangle to its
+    // corners one after the other would.
     m_mesh.corner = liveTriangleCorners(m_input);
-    m_mesh.fan.build(m_mesh.vertexCount, m_mesh.corner);
     const auto triangleCount = static_cast<std::uint32_t>(m_mesh.corner.size() / 3);
     m_mesh.liveTriangles = triangleCount;
     m_mesh.triangleAlive.assign(triangleCount, 1);
-
-    m_mesh.quadric.assign(m_mesh.vertexCount, Quadric{});
-    std::vector<glm::dvec3> faceNormal(triangleCount, glm::dvec3(0.0));
-    for (std::uint32_t t = 0; t < triangleCount; ++t)
-      faceNormal[t] = addTriangleQuadric(m_mesh.position, &m_mesh.corner[3 * t], m_mesh.quadric);
+    m_mesh.fan.clearAll(m_mesh.vertexCount);
+    std::vector<Quadric> plane(triangleCount);
+    std::vector<glm::dvec3> faceNormal(triangleCount);
+    m_pair.run([&](int half) {
+      const auto [vertexBegin, vertexEnd] = halfOf(m_mesh.vertexCount, half);
+      m_mesh.fan.fill(m_mesh.corner, vertexBegin, vertexEnd);
+      const auto [begin, end] = halfOf(triangleCount, half);
+      for (std::uint32_t t = begin; t < end; ++t)
+        faceNormal[t] = triangleQuadric(m_mesh.position, &m_mesh.corner[3 * t], plane[t]);
+    });
+    m_mesh.quadric.resize(m_mesh.vertexCount);
+    m_pair.run([&](int half) {
+      const auto [begin, end] = halfOf(m_mesh.vertexCount, half);
+      for (std::uint32_t v = begin; v < end; ++v) {
+        Quadric sum;
+        for (std::uint32_t t : m_mesh.fan[v]) sum += plane[t];
+        m_mesh.quadric[v] = sum;
+      }
+    });
+    std::vector<Quadric>().swap(plane);
     setUpColours();
     const double meanEdge = classify(faceNormal);
 
@@ -107,20 +124,26 @@ class ClusterMeshSetup {
     }
   }
 
-  // Classifies every vertex into the seed's categories from the edges around it, labels
-  // feature lines, adds boundary planes; returns the mean edge length.
-  double classify(const std::vector<glm::dvec3>& faceNormal) {
-    m_mesh.featureCosine = std::cos(m_options.featureAngleDegrees * 3.14159265358979323846 / 180.0);
-    std::vector<std::uint32_t> neighbours(m_mesh.vertexCount, 0);
-    std::vector<std::uint8_t> nonManifold(m_mesh.vertexCount, 0);
-    m_mesh.closedAround.assign(m_mesh.vertexCount, 1);
+  // What a scan of the edges (a, b), a < b, with a in one half of the vertices found: per
+  // vertex counts and flags (b may lie in the other half), and the edges in scan order.
+  struct EdgeScan {
+    std::vector<std::uint32_t> neighbours;
+    std::vector<std::uint8_t> open;  // an edge at the vertex lacks one triangle running each way
+    std::vector<std::uint8_t> nonManifold, colourBorder;
     std::vector<Edge> sharpEdges, boundaryEdges;
-    m_mesh.colourBorder.assign(m_mesh.vertexCount, 0);
-    double edgeLengthSum = 0.0;
-    std::size_t edgeCount = 0;
-    // Each edge (a, b), a < b, once: from a's fan, with its sides.
+    std::vector<std::uint32_t> boundaryTriangle;  // per boundary edge
+    std::vector<double> edgeLength;               // per edge
+  };
+
+  // Each edge (a, b), a < b, with a in [begin, end) once: from a's fan, with its sides.
+  void scanEdges(std::uint32_t begin, std::uint32_t end, const std::vector<glm::dvec3>& faceNormal,
+                 EdgeScan& scan) const {
+    scan.neighbours.assign(m_mesh.vertexCount, 0);
+    scan.open.assign(m_mesh.vertexCount, 0);
+    scan.nonManifold.assign(m_mesh.vertexCount, 0);
+    scan.colourBorder.assign(m_mesh.vertexCount, 0);
     std::vector<EdgeSide> sides;
-    for (std::uint32_t a = 0; a < m_mesh.vertexCount; ++a) {
+    for (std::uint32_t a = begin; a < end; ++a) {
       sides.clear();
       for (std::uint32_t t : m_mesh.fan[a]) {
         const std::uint32_t* c = &m_mesh.corner[3 * t];
@@ -132,27 +155,61 @@ class ClusterMeshSetup {
         std::size_t j = i + 1;
         while (j < sides.size() && sides[j].hi == sides[i].hi) ++j;
         const std::uint32_t b = sides[i].hi;
-        ++neighbours[a], ++neighbours[b];
-        if (j - i != 2 || sides[i].forward == sides[i + 1].forward) m_mesh.closedAround[a] = m_mesh.closedAround[b] = 0;
-        edgeLengthSum += glm::length(m_mesh.position[a] - m_mesh.position[b]);
-        ++edgeCount;
+        ++scan.neighbours[a], ++scan.neighbours[b];
+        if (j - i != 2 || sides[i].forward == sides[i + 1].forward) scan.open[a] = scan.open[b] = 1;
+        scan.edgeLength.push_back(glm::length(m_mesh.position[a] - m_mesh.position[b]));
         if (j - i == 1) {
-          boundaryEdges.push_back({a, b});
-          addBoundaryEdgeQuadric(m_mesh.position[a], m_mesh.position[b], faceNormal[sides[i].triangle], kBoundaryWeight,
-                                 m_mesh.quadric[a], m_mesh.quadric[b]);
+          scan.boundaryEdges.push_back({a, b});
+          scan.boundaryTriangle.push_back(sides[i].triangle);
         } else if (j - i == 2) {
           const glm::dvec3 n0 = faceNormal[sides[i].triangle];
           // Two consistently oriented triangles run the edge in opposite directions.
           const double flip = sides[i].forward != sides[i + 1].forward ? 1.0 : -1.0;
           const glm::dvec3 n1 = faceNormal[sides[i + 1].triangle] * flip;
           if (glm::dot(n0, n0) > 0.0 && glm::dot(n1, n1) > 0.0 && glm::dot(n0, n1) < m_mesh.featureCosine)
-            sharpEdges.push_back({a, b});
+            scan.sharpEdges.push_back({a, b});
         } else {
-          nonManifold[a] = nonManifold[b] = 1;
+          scan.nonManifold[a] = scan.nonManifold[b] = 1;
         }
-        if (m_mesh.useColours && m_mesh.coloursDiffer(a, b)) m_mesh.colourBorder[a] = m_mesh.colourBorder[b] = 1;
+        if (m_mesh.useColours && m_mesh.coloursDiffer(a, b)) scan.colourBorder[a] = scan.colourBorder[b] = 1;
         i = j;
       }
+    }
+  }
+
+  // Classifies every vertex into the seed's categories from the edges around it, labels
+  // feature lines, adds boundary planes; returns the mean edge length.
+  double classify(const std::vector<glm::dvec3>& faceNormal) {
+    m_mesh.featureCosine = std::cos(m_options.featureAngleDegrees * 3.14159265358979323846 / 180.0);
+    std::array<EdgeScan, 2> scan;
+    m_pair.run([&](int half) {
+      const auto [begin, end] = halfOf(m_mesh.vertexCount, half);
+      scanEdges(begin, end, faceNormal, scan[half]);
+    });
+    std::vector<std::uint32_t> neighbours(m_mesh.vertexCount);
+    std::vector<std::uint8_t> nonManifold(m_mesh.vertexCount);
+    m_mesh.closedAround.resize(m_mesh.vertexCount);
+    m_mesh.colourBorder.resize(m_mesh.vertexCount);
+    for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) {
+      neighbours[v] = scan[0].neighbours[v] + scan[1].neighbours[v];
+      m_mesh.closedAround[v] = !(scan[0].open[v] | scan[1].open[v]);
+      nonManifold[v] = scan[0].nonManifold[v] | scan[1].nonManifold[v];
+      m_mesh.colourBorder[v] = scan[0].colourBorder[v] | scan[1].colourBorder[v];
+    }
+    // In the order of one scan over all vertices.
+    std::vector<Edge> sharpEdges, boundaryEdges;
+    double edgeLengthSum = 0.0;
+    std::size_t edgeCount = 0;
+    for (const EdgeScan& half : scan) {
+      sharpEdges.insert(sharpEdges.end(), half.sharpEdges.begin(), half.sharpEdges.end());
+      boundaryEdges.insert(boundaryEdges.end(), half.boundaryEdges.begin(), half.boundaryEdges.end());
+      for (std::size_t e = 0; e < half.boundaryEdges.size(); ++e) {
+        const auto [a, b] = half.boundaryEdges[e];
+        addBoundaryEdgeQuadric(m_mesh.position[a], m_mesh.position[b], faceNormal[half.boundaryTriangle[e]],
+                               kBoundaryWeight, m_mesh.quadric[a], m_mesh.quadric[b]);
+      }
+      for (double length : half.edgeLength) edgeLengthSum += length;
+      edgeCount += half.edgeLength.size();
     }
     const double meanEdge = edgeCount > 0 ? edgeLengthSum / double(edgeCount) : 1.0;
 
@@ -185,10 +242,10 @@ class ClusterMeshSetup {
     auto turns = [&](std::uint32_t v, const std::vector<std::uint32_t>& slots) {
       return m_mesh.turnsSharply(slots[2 * v], v, slots[2 * v + 1]);
     };
-    m_mesh.vertexClass.assign(m_mesh.vertexCount, VertexClass::Complex);
-    for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) {
+    // Each vertex by itself: half of them on each thread.
+    auto classifyVertex = [&](std::uint32_t v) {
       const auto triangles = static_cast<std::uint32_t>(m_mesh.fan[v].size());  // all alive at set-up
-      if (triangles == 0 || nonManifold[v]) continue;
+      if (triangles == 0 || nonManifold[v]) return;
       const bool closedDisk =
           boundaryCount[v] == 0 && neighbours[v] == triangles && m_mesh.closedAround[v] && fanIsOneCycle(v);
       const bool openDisk = boundaryCount[v] == 2 && neighbours[v] == triangles + 1;
@@ -205,7 +262,12 @@ class ClusterMeshSetup {
         else
           m_mesh.vertexClass[v] = VertexClass::Corner;
       }
-    }
+    };
+    m_mesh.vertexClass.assign(m_mesh.vertexCount, VertexClass::Complex);
+    m_pair.run([&](int half) {
+      const auto [begin, end] = halfOf(m_mesh.vertexCount, half);
+      for (std::uint32_t v = begin; v < end; ++v) classifyVertex(v);
+    });
     classifySeams();
     labelLines(sharpEdges);
     return meanEdge;
@@ -283,15 +345,16 @@ class ClusterMeshSetup {
   const TriangleMesh& m_input;
   const RegionPartition& m_partition;
   const ClusterOptions& m_options;
+  PairedWork& m_pair;
   ClusterMesh& m_mesh;
 };
 
 }  // namespace
 
 ClusterMesh setUpClusterMesh(const TriangleMesh& input, const RegionPartition& partition,
-                             const ClusterOptions& options) {
+                             const ClusterOptions& options, PairedWork& pair) {
   ClusterMesh mesh;
-  ClusterMeshSetup(input, partition, options, mesh).run();
+  ClusterMeshSetup(input, partition, options, pair, mesh).run();
   return mesh;
 }
 

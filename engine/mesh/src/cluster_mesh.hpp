@@ -7,17 +7,24 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "polder/mesh/cluster_builder.hpp"
 #include "polder/mesh/region_partition.hpp"
 #include "polder/mesh/triangle_mesh.hpp"
+#include "paired_work.hpp"
 #include "quadric.hpp"
 #include "triangle_fans.hpp"
 
 namespace polder::mesh::cluster {
 
 inline constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+// The first (half 0) or second (half 1) half of the range [0, count).
+inline std::pair<std::uint32_t, std::uint32_t> halfOf(std::uint32_t count, int half) {
+  return half == 0 ? std::pair{0u, count / 2} : std::pair{count / 2, count};
+}
 
 // The seed's five vertex categories (part A, preprocessing), found on the original mesh;
 // a feature the coarser mesh no longer shows relaxes later (demoteFadedFeature).
@@ -83,8 +90,9 @@ struct ClusterMesh {
 };
 
 // Seed part A's preprocessing of `input` (its vertices in locality order): every vertex
-// classified and given the quadric of its planes; cells start at tau0.
+// classified and given the quadric of its planes; cells start at tau0. Halves of the work
+// run on `pair`'s two threads; the result does not depend on it.
 ClusterMesh setUpClusterMesh(const TriangleMesh& input, const RegionPartition& partition,
-                             const ClusterOptions& options);
+                             const ClusterOptions& options, PairedWork& pair);
 
 }  // namespace polder::mesh::cluster

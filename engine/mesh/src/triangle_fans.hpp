@@ -18,10 +18,22 @@ class TriangleFans {
 
   // Each vertex's fan, from the triangles' corners (three per triangle), in triangle order.
   void build(std::size_t vertexCount, const std::vector<std::uint32_t>& corners) {
+    clearAll(vertexCount);
+    fill(corners, 0, static_cast<std::uint32_t>(vertexCount));
+  }
+
+  // Empty fans for `vertexCount` vertices.
+  void clearAll(std::size_t vertexCount) {
     m_record.assign(vertexCount, Record{});
     m_spilled.assign(vertexCount, {});
+  }
+
+  // Adds the triangles to the fans of their corners in [begin, end), in triangle order;
+  // threads may fill disjoint ranges at once.
+  void fill(const std::vector<std::uint32_t>& corners, std::uint32_t begin, std::uint32_t end) {
     for (std::uint32_t t = 0; t < corners.size() / 3; ++t)
-      for (int k = 0; k < 3; ++k) push(corners[3 * t + k], t);
+      for (int k = 0; k < 3; ++k)
+        if (const std::uint32_t v = corners[3 * t + k]; v >= begin && v < end) push(v, t);
   }
 
   std::span<const std::uint32_t> operator[](std::uint32_t v) const {

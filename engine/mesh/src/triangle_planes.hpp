@@ -18,17 +18,27 @@ inline glm::dvec3 triangleCross(const std::vector<glm::dvec3>& position, const s
   return glm::cross(position[corner[1]] - a, position[corner[2]] - a);
 }
 
-// Adds the triangle's plane, weighted by its area, to its corners' quadrics; returns its
-// unit normal (zero for a flat triangle, which adds nothing).
-inline glm::dvec3 addTriangleQuadric(const std::vector<glm::dvec3>& position, const std::uint32_t* corner,
-                                     std::vector<Quadric>& quadric) {
+// The triangle's plane as a quadric, weighted by its area (`plane`); returns its unit
+// normal (zero for a flat triangle, whose quadric is zero).
+inline glm::dvec3 triangleQuadric(const std::vector<glm::dvec3>& position, const std::uint32_t* corner,
+                                  Quadric& plane) {
+  plane = Quadric{};
   const glm::dvec3 cross = triangleCross(position, corner);
   const double length = glm::length(cross);
   if (length <= 0.0) return glm::dvec3(0.0);
   const glm::dvec3 n = cross / length;
-  Quadric q;
-  q.addPlane(n, -glm::dot(n, position[corner[0]]), 0.5 * length);
-  for (int k = 0; k < 3; ++k) quadric[corner[k]] += q;
+  plane.addPlane(n, -glm::dot(n, position[corner[0]]), 0.5 * length);
+  return n;
+}
+
+// Adds the triangle's plane, weighted by its area, to its corners' quadrics; returns its
+// unit normal (zero for a flat triangle, which adds nothing).
+inline glm::dvec3 addTriangleQuadric(const std::vector<glm::dvec3>& position, const std::uint32_t* corner,
+                                     std::vector<Quadric>& quadric) {
+  Quadric plane;
+  const glm::dvec3 n = triangleQuadric(position, corner, plane);
+  if (n == glm::dvec3(0.0)) return n;
+  for (int k = 0; k < 3; ++k) quadric[corner[k]] += plane;
   return n;
 }
 
