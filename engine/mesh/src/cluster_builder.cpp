@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numeric>
 #include <optional>
 #include <span>
 #include <vector>
@@ -53,6 +54,9 @@ class ClusterBuilder {
     steps.error.reserve(vertexCount / 2);
     m_aliveVertices = static_cast<std::uint32_t>(std::count(m_mesh.alive.begin(), m_mesh.alive.end(), 1));
     m_startVertices = m_aliveVertices;
+    m_aliveVertexList.reserve(m_aliveVertices);
+    for (std::uint32_t v = 0; v < vertexCount; ++v)
+      if (m_mesh.alive[v]) m_aliveVertexList.push_back(v);
     m_part.assign(vertexCount, 0);
     const bool rounds = m_aliveVertices >= 2 * kRoundsDownTo;
     std::array<std::optional<ClusterWorker>, 2> worker;
@@ -64,7 +68,8 @@ class ClusterBuilder {
     // The rest with one worker on the whole mesh, reporting progress every so often.
     const std::uint32_t reportEvery = std::max<std::uint32_t>(1, m_startVertices / 64);
     std::fill(m_part.begin(), m_part.end(), std::uint8_t(0));
-    worker[0]->beginRound(m_part, 0);
+    std::erase_if(m_aliveVertexList, [&](std::uint32_t v) { return !m_mesh.alive[v]; });
+    worker[0]->beginRound(m_aliveVertexList, m_part, 0);
     for (;;) {
       const std::uint32_t removed = worker[0]->takeSteps(reportEvery, triangleSurplus(), steps, nullptr, m_listener);
       reportProgress(removed);
@@ -86,6 +91,8 @@ class ClusterBuilder {
 
   void runRounds(ClusterWorker& first, ClusterWorker& second, SimplificationSteps& steps) {
     const std::array<ClusterWorker*, 2> workers{&first, &second};
+    m_liveTriangleList.resize(m_mesh.triangleAlive.size());
+    std::iota(m_liveTriangleList.begin(), m_liveTriangleList.end(), 0u);
     for (std::uint32_t round = 0; m_aliveVertices >= kRoundsDownTo; ++round) {
       // Each worker may remove a quarter of the triangles left to remove: together they
       // never pass stopAtTriangles.
@@ -98,15 +105,15 @@ class ClusterBuilder {
         ClusterWorker& worker = *workers[w];
         m_roundSteps[w] = {};
         m_roundKeys[w].clear();
-        worker.beginRound(m_part, static_cast<std::uint8_t>(w));
+        worker.beginRound(m_aliveVertexList, m_part, static_cast<std::uint8_t>(w));
         const auto quota = static_cast<std::uint32_t>(std::ceil(kRoundShare * partSize[w]));
         removed[w] = worker.takeSteps(quota, triangleQuota, m_roundSteps[w], &m_roundKeys[w], nullptr);
-        worker.endRound(m_part, static_cast<std::uint8_t>(w));
+        worker.endRound(m_aliveVertexList, m_part, static_cast<std::uint8_t>(w));
       };
       m_pair.run(work);
       mergeRoundSteps(steps);
       for (const ClusterWorker* worker : workers) m_mesh.liveTriangles -= worker->trianglesRemoved();
-      for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v)
+      for (std::uint32_t v : m_aliveVertexList)
         if (m_part[v] == kBetweenParts && m_mesh.alive[v]) m_mesh.stale[v] = 1;
       reportProgress(removed[0] + removed[1]);
       const std::uint32_t removedInRound = removed[0] + removed[1];
@@ -120,35 +127,31 @@ class ClusterBuilder {
   // on a triangle across the cut, and seam twins parted by it, belong to neither.
   // Returns the parts' sizes.
   std::array<std::uint32_t, 2> splitIntoParts(std::uint32_t round) {
-    const std::uint32_t alive = m_aliveVertices;
+    // The rounds' loops walk what is still alive only.
+    std::erase_if(m_aliveVertexList, [&](std::uint32_t v) { return !m_mesh.alive[v]; });
+    std::erase_if(m_liveTriangleList, [&](std::uint32_t t) { return !m_mesh.triangleAlive[t]; });
+    const auto alive = static_cast<std::uint32_t>(m_aliveVertexList.size());
     const std::uint32_t begin = round % 2 == 0 ? 0 : alive / 4, end = round % 2 == 0 ? alive / 2 : alive - alive / 4;
-    std::uint32_t rank = 0;
-    for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) {
-      if (!m_mesh.alive[v]) {
-        m_part[v] = kBetweenParts;
-        continue;
-      }
-      m_part[v] = rank >= begin && rank < end ? 0 : 1;
-      ++rank;
-    }
+    for (std::uint32_t rank = 0; rank < alive; ++rank)
+      m_part[m_aliveVertexList[rank]] = rank >= begin && rank < end ? 0 : 1;
     // Bit 0 holds the side of the cut, bit 1 (kBetweenParts) marks vertices at the cut.
     const std::uint32_t* corner = m_mesh.corner.data();
-    for (std::uint32_t t = 0; t < m_mesh.triangleAlive.size(); ++t) {
-      if (!m_mesh.triangleAlive[t]) continue;
+    for (std::uint32_t t : m_liveTriangleList) {
       const std::uint32_t a = corner[3 * t], b = corner[3 * t + 1], c = corner[3 * t + 2];
       if (((m_part[a] ^ m_part[b]) | (m_part[a] ^ m_part[c])) & 1)
         m_part[a] |= kBetweenParts, m_part[b] |= kBetweenParts, m_part[c] |= kBetweenParts;
     }
-    for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) {
+    for (std::uint32_t v : m_aliveVertexList) {
       const std::uint32_t twin = m_mesh.twin[v];
-      if (twin != kNoTwin && (((m_part[v] | m_part[twin]) & kBetweenParts) || ((m_part[v] ^ m_part[twin]) & 1)))
+      if (twin == kNoTwin) continue;
+      if (!m_mesh.alive[twin] || ((m_part[v] | m_part[twin]) & kBetweenParts) || ((m_part[v] ^ m_part[twin]) & 1))
         m_part[v] |= kBetweenParts, m_part[twin] |= kBetweenParts;
     }
-    for (std::uint8_t& p : m_part)
-      if (p & kBetweenParts) p = kBetweenParts;
     std::array<std::uint32_t, 2> size{};
-    for (std::uint8_t p : m_part)
-      if (p != kBetweenParts) ++size[p];
+    for (std::uint32_t v : m_aliveVertexList) {
+      if (m_part[v] & kBetweenParts) m_part[v] = kBetweenParts;
+      else ++size[m_part[v]];
+    }
     return size;
   }
 
@@ -175,7 +178,8 @@ class ClusterBuilder {
   ClusterMesh m_mesh;
   std::uint32_t m_startVertices = 0;  // on a triangle at the start
   std::uint32_t m_aliveVertices = 0;
-  std::vector<std::uint8_t> m_part;  // per vertex this round: 0, 1 or kBetweenParts
+  std::vector<std::uint8_t> m_part;  // per alive vertex this round: 0, 1 or kBetweenParts
+  std::vector<std::uint32_t> m_aliveVertexList, m_liveTriangleList;  // as of the round's start
   std::array<SimplificationSteps, 2> m_roundSteps;
   std::array<std::vector<float>, 2> m_roundKeys;
 };

@@ -48,12 +48,13 @@ ClusterWorker::ClusterWorker(ClusterMesh& mesh, const RegionPartition& partition
   m_triangleSeen.assign(mesh.triangleAlive.size(), 0);
 }
 
-void ClusterWorker::beginRound(std::span<const std::uint8_t> part, std::uint8_t own) {
+void ClusterWorker::beginRound(std::span<const std::uint32_t> vertices, std::span<const std::uint8_t> part,
+                               std::uint8_t own) {
   m_trianglesRemoved = 0;
   m_queue.clear();
-  for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) {
+  for (std::uint32_t v : vertices) {
     std::uint32_t& mark = m_treePoint[v].mark;
-    if (part[v] != own || !m_mesh.alive[v])
+    if (part[v] != own)
       mark = kOutOfPart;
     else if (mark == kOutOfPart)
       mark = 0;
@@ -62,8 +63,8 @@ void ClusterWorker::beginRound(std::span<const std::uint8_t> part, std::uint8_t 
   // priority (the cost of the cluster they would gather). The first ring of the cluster
   // estimates it at a fraction of the work: the queue evaluates the whole cluster when
   // the vertex comes up, and most vertices are gathered before that.
-  for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) {
-    if (part[v] != own || !m_mesh.alive[v]) continue;
+  for (std::uint32_t v : vertices) {
+    if (part[v] != own) continue;
     if (m_mesh.stale[v]) {
       m_mesh.stale[v] = 0;
       if (evaluate(v, Evaluation::FirstRing)) m_queue.set(v, queueKey());
@@ -95,12 +96,15 @@ std::uint32_t ClusterWorker::takeSteps(std::uint32_t vertexQuota, std::uint32_t 
   return removed;
 }
 
-void ClusterWorker::endRound(std::span<const std::uint8_t> part, std::uint8_t own) {
+void ClusterWorker::endRound(std::span<const std::uint32_t> vertices, std::span<const std::uint8_t> part,
+                             std::uint8_t own) {
   // A vertex with nothing to gather may have been held up by vertices out of the part.
-  for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) {
+  for (std::uint32_t v : vertices) {
     if (part[v] != own || !m_mesh.alive[v]) continue;
-    if (m_queue.contains(v)) m_mesh.queuedKey[v] = m_queue.key(v);
-    else m_mesh.stale[v] = 1;
+    if (m_queue.contains(v))
+      m_mesh.queuedKey[v] = m_queue.key(v);
+    else
+      m_mesh.stale[v] = 1;
   }
 }
 

@@ -28,9 +28,9 @@ class ClusterWorker {
  public:
   ClusterWorker(ClusterMesh& mesh, const RegionPartition& partition, const ClusterOptions& options);
 
-  // Starts a round on the alive vertices v with part[v] == own: their queue is rebuilt
-  // from the mesh's keys, and stale ones are evaluated afresh.
-  void beginRound(std::span<const std::uint8_t> part, std::uint8_t own);
+  // Starts a round on the vertices v (all alive ones, in index order) with part[v] == own:
+  // their queue is rebuilt from the mesh's keys, and stale ones are evaluated afresh.
+  void beginRound(std::span<const std::uint32_t> vertices, std::span<const std::uint8_t> part, std::uint8_t own);
 
   // Takes steps, appending them to `steps` (with their queue keys to `keys`, when given,
   // and telling `listener`, when given), until `vertexQuota` vertices or `triangleQuota`
@@ -43,7 +43,7 @@ class ClusterWorker {
 
   // Ends the round: the queue keys of the worker's part go back to the mesh; vertices with
   // nothing to gather are evaluated again next round.
-  void endRound(std::span<const std::uint8_t> part, std::uint8_t own);
+  void endRound(std::span<const std::uint32_t> vertices, std::span<const std::uint8_t> part, std::uint8_t own);
 
  private:
   // How much of a candidate cluster evaluate() looks at.
