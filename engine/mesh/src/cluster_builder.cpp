@@ -34,6 +34,8 @@ constexpr double kRoundShare = 0.25;
 // Below this many vertices the builder goes on with one worker on the whole mesh: the
 // coarse levels are taken in the exact queue order, and rounds would be short.
 constexpr std::uint32_t kRoundsDownTo = 256;
+// Rounds end when fewer triangles than this are left to remove (stopAtTriangles is near).
+constexpr std::uint32_t kSmallestTriangleQuota = 16;
 constexpr std::uint8_t kBetweenParts = 2;  // a vertex in neither part this round
 
 class ClusterBuilder {
@@ -97,7 +99,7 @@ class ClusterBuilder {
       // Each worker may remove a quarter of the triangles left to remove: together they
       // never pass stopAtTriangles.
       const std::uint32_t triangleQuota = triangleSurplus() / 4;
-      if (triangleQuota < kRoundsDownTo) break;
+      if (triangleQuota < kSmallestTriangleQuota) break;
       const std::array<std::uint32_t, 2> partSize = splitIntoParts(round);
       if (partSize[0] + partSize[1] < m_aliveVertices / 2) break;  // a coarse mesh: mostly cut
       std::array<std::uint32_t, 2> removed{};
