@@ -34,6 +34,9 @@ constexpr double kRoundShare = 0.25;
 // Below this many vertices the builder goes on with one worker on the whole mesh: the
 // coarse levels are taken in the exact queue order, and rounds would be short.
 constexpr std::uint32_t kRoundsDownTo = 256;
+// Rounds end once the cut holds more than this share of the alive vertices: they wait a
+// round, and on a coarse mesh too much of the surface would stay finer than the rest.
+constexpr double kLargestCut = 0.25;
 // Rounds end when fewer triangles than this are left to remove (stopAtTriangles is near).
 constexpr std::uint32_t kSmallestTriangleQuota = 16;
 constexpr std::uint8_t kBetweenParts = 2;  // a vertex in neither part this round
@@ -101,7 +104,7 @@ class ClusterBuilder {
       const std::uint32_t triangleQuota = triangleSurplus() / 4;
       if (triangleQuota < kSmallestTriangleQuota) break;
       const std::array<std::uint32_t, 2> partSize = splitIntoParts(round);
-      if (partSize[0] + partSize[1] < m_aliveVertices / 2) break;  // a coarse mesh: mostly cut
+      if (partSize[0] + partSize[1] < (1.0 - kLargestCut) * m_aliveVertices) break;
       std::array<std::uint32_t, 2> removed{};
       auto work = [&](int w) {
         ClusterWorker& worker = *workers[w];
