@@ -50,12 +50,7 @@ class PairedWork {
       m_pending = true;
     }
     m_changed.notify_all();
-    std::exception_ptr failed;
-    try {
-      half(0);
-    } catch (...) {
-      failed = std::current_exception();
-    }
+    std::exception_ptr failed = runCaught(half, 0);
     std::unique_lock lock(m_mutex);
     m_changed.wait(lock, [&] { return !m_pending; });
     if (!failed) failed = m_helperFailed;
@@ -64,6 +59,16 @@ class PairedWork {
   }
 
  private:
+  // Runs half(which); returns what it threw, if anything.
+  static std::exception_ptr runCaught(const std::function<void(int)>& half, int which) {
+    try {
+      half(which);
+    } catch (...) {
+      return std::current_exception();
+    }
+    return nullptr;
+  }
+
   void serve() {
     std::unique_lock lock(m_mutex);
     for (;;) {
@@ -71,12 +76,7 @@ class PairedWork {
       if (!m_pending) return;
       const std::function<void(int)>& half = *m_half;
       lock.unlock();
-      std::exception_ptr failed;
-      try {
-        half(1);
-      } catch (...) {
-        failed = std::current_exception();
-      }
+      std::exception_ptr failed = runCaught(half, 1);
       lock.lock();
       m_helperFailed = failed;
       m_pending = false;
