@@ -69,25 +69,27 @@ class ClusterMeshSetup {
     m_mesh.liveTriangles = triangleCount;
     m_mesh.triangleAlive.assign(triangleCount, 1);
     m_mesh.fan.clearAll(m_mesh.vertexCount);
-    std::vector<Quadric> plane(triangleCount);
+    std::vector<WeightedPlane> plane(triangleCount);
     std::vector<glm::dvec3> faceNormal(triangleCount);
     m_pair.run([&](int half) {
       const auto [vertexBegin, vertexEnd] = halfOf(m_mesh.vertexCount, half);
       m_mesh.fan.fill(m_mesh.corner, vertexBegin, vertexEnd);
       const auto [begin, end] = halfOf(triangleCount, half);
-      for (std::uint32_t t = begin; t < end; ++t)
-        faceNormal[t] = triangleQuadric(m_mesh.position, &m_mesh.corner[3 * t], plane[t]);
+      for (std::uint32_t t = begin; t < end; ++t) {
+        plane[t] = trianglePlane(m_mesh.position, &m_mesh.corner[3 * t]);
+        faceNormal[t] = plane[t].normal;
+      }
     });
     m_mesh.quadric.resize(m_mesh.vertexCount);
     m_pair.run([&](int half) {
       const auto [begin, end] = halfOf(m_mesh.vertexCount, half);
       for (std::uint32_t v = begin; v < end; ++v) {
         Quadric sum;
-        for (std::uint32_t t : m_mesh.fan[v]) sum += plane[t];
+        for (std::uint32_t t : m_mesh.fan[v]) sum.addPlane(plane[t].normal, plane[t].offset, plane[t].weight);
         m_mesh.quadric[v] = sum;
       }
     });
-    std::vector<Quadric>().swap(plane);
+    std::vector<WeightedPlane>().swap(plane);
     setUpColours();
     const double meanEdge = classify(faceNormal);
 

@@ -18,28 +18,32 @@ inline glm::dvec3 triangleCross(const std::vector<glm::dvec3>& position, const s
   return glm::cross(position[corner[1]] - a, position[corner[2]] - a);
 }
 
-// The triangle's plane as a quadric, weighted by its area (`plane`); returns its unit
-// normal (zero for a flat triangle, whose quadric is zero).
-inline glm::dvec3 triangleQuadric(const std::vector<glm::dvec3>& position, const std::uint32_t* corner,
-                                  Quadric& plane) {
-  plane = Quadric{};
+// A plane n.p + offset = 0 (n unit) with a weight.
+struct WeightedPlane {
+  glm::dvec3 normal{0.0};
+  double offset = 0.0;
+  double weight = 0.0;
+};
+
+// The triangle's plane, weighted by its area (zero for a flat triangle).
+inline WeightedPlane trianglePlane(const std::vector<glm::dvec3>& position, const std::uint32_t* corner) {
   const glm::dvec3 cross = triangleCross(position, corner);
   const double length = glm::length(cross);
-  if (length <= 0.0) return glm::dvec3(0.0);
+  if (length <= 0.0) return {};
   const glm::dvec3 n = cross / length;
-  plane.addPlane(n, -glm::dot(n, position[corner[0]]), 0.5 * length);
-  return n;
+  return {n, -glm::dot(n, position[corner[0]]), 0.5 * length};
 }
 
 // Adds the triangle's plane, weighted by its area, to its corners' quadrics; returns its
 // unit normal (zero for a flat triangle, which adds nothing).
 inline glm::dvec3 addTriangleQuadric(const std::vector<glm::dvec3>& position, const std::uint32_t* corner,
                                      std::vector<Quadric>& quadric) {
-  Quadric plane;
-  const glm::dvec3 n = triangleQuadric(position, corner, plane);
-  if (n == glm::dvec3(0.0)) return n;
-  for (int k = 0; k < 3; ++k) quadric[corner[k]] += plane;
-  return n;
+  const WeightedPlane plane = trianglePlane(position, corner);
+  if (plane.weight <= 0.0) return plane.normal;
+  Quadric q;
+  q.addPlane(plane.normal, plane.offset, plane.weight);
+  for (int k = 0; k < 3; ++k) quadric[corner[k]] += q;
+  return plane.normal;
 }
 
 // Adds the plane through the boundary edge (a, b), perpendicular to its triangle's normal
