@@ -1,3 +1,6 @@
+// Builder `cluster` (seeds/002_d92600183c0e5cf1.txt, part A): the seed's preprocessing
+// (cluster_mesh), then its simplification loop (cluster_worker), run in rounds on two
+// threads while the mesh is large and on one for its coarsest levels.
 #include "polder/mesh/cluster_builder.hpp"
 
 #include <algorithm>
@@ -163,8 +166,10 @@ class ClusterBuilder {
   // Appends the round's steps of both workers, cheapest first (each worker's in its own
   // order: the parts are apart, so their steps commute).
   void mergeRoundSteps(SimplificationSteps& steps) {
-    const SimplificationSteps &a = m_roundSteps[0], &b = m_roundSteps[1];
-    const std::vector<float>&keyA = m_roundKeys[0], &keyB = m_roundKeys[1];
+    const SimplificationSteps& a = m_roundSteps[0];
+    const SimplificationSteps& b = m_roundSteps[1];
+    const std::vector<float>& keyA = m_roundKeys[0];
+    const std::vector<float>& keyB = m_roundKeys[1];
     std::size_t i = 0, j = 0;
     while (i < a.size() || j < b.size()) {
       const bool fromA = j == b.size() || (i < a.size() && keyA[i] <= keyB[j]);
