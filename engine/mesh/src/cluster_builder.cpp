@@ -76,7 +76,7 @@ class ClusterBuilder {
     // The rest with one worker on the whole mesh, reporting progress every so often.
     const std::uint32_t reportEvery = std::max<std::uint32_t>(1, m_startVertices / 64);
     std::fill(m_part.begin(), m_part.end(), std::uint8_t(0));
-    std::erase_if(m_aliveVertexList, [&](std::uint32_t v) { return !m_mesh.alive[v]; });
+    dropDead();
     worker[0]->beginRound(m_aliveVertexList, m_part, 0);
     for (;;) {
       const std::uint32_t removed = worker[0]->takeSteps(reportEvery, triangleSurplus(), steps, nullptr, m_listener);
@@ -87,6 +87,12 @@ class ClusterBuilder {
   }
 
  private:
+  // The rounds' loops walk what is still alive only.
+  void dropDead() {
+    std::erase_if(m_aliveVertexList, [&](std::uint32_t v) { return !m_mesh.alive[v]; });
+    std::erase_if(m_liveTriangleList, [&](std::uint32_t t) { return !m_mesh.triangleAlive[t]; });
+  }
+
   // Triangles the build may still remove before reaching stopAtTriangles.
   std::uint32_t triangleSurplus() const {
     return m_mesh.liveTriangles > m_options.stopAtTriangles ? m_mesh.liveTriangles - m_options.stopAtTriangles : 0;
@@ -121,8 +127,8 @@ class ClusterBuilder {
       m_pair.run(work);
       mergeRoundSteps(steps);
       for (const ClusterWorker* worker : workers) m_mesh.liveTriangles -= worker->trianglesRemoved();
-      for (std::uint32_t v : m_aliveVertexList)
-        if (m_part[v] == kBetweenParts && m_mesh.alive[v]) m_mesh.stale[v] = 1;
+      for (std::uint32_t v : m_aliveVertexList)  // no step reaches them, so they are still alive
+        if (m_part[v] == kBetweenParts) m_mesh.stale[v] = 1;
       reportProgress(removed[0] + removed[1]);
       const std::uint32_t removedInRound = removed[0] + removed[1];
       if (removedInRound == 0 || removedInRound < (partSize[0] + partSize[1]) / 32) break;  // little left to gather
@@ -135,9 +141,7 @@ class ClusterBuilder {
   // on a triangle across the cut, and seam twins parted by it, belong to neither.
   // Returns the parts' sizes.
   std::array<std::uint32_t, 2> splitIntoParts(std::uint32_t round) {
-    // The rounds' loops walk what is still alive only.
-    std::erase_if(m_aliveVertexList, [&](std::uint32_t v) { return !m_mesh.alive[v]; });
-    std::erase_if(m_liveTriangleList, [&](std::uint32_t t) { return !m_mesh.triangleAlive[t]; });
+    dropDead();
     const auto alive = static_cast<std::uint32_t>(m_aliveVertexList.size());
     const std::uint32_t begin = round % 2 == 0 ? 0 : alive / 4, end = round % 2 == 0 ? alive / 2 : alive - alive / 4;
     for (std::uint32_t rank = 0; rank < alive; ++rank)
@@ -173,9 +177,7 @@ class ClusterBuilder {
     std::size_t i = 0, j = 0;
     while (i < a.size() || j < b.size()) {
       const bool fromA = j == b.size() || (i < a.size() && keyA[i] <= keyB[j]);
-      const SimplificationSteps& from = fromA ? a : b;
-      const std::size_t s = fromA ? i++ : j++;
-      steps.add(from.representative[s], from.removedBy(s), from.ontoBy(s), from.error[s]);
+      steps.addCopyOf(fromA ? a : b, fromA ? i++ : j++);
       if (m_listener) m_listener->stepTaken(steps);
     }
   }

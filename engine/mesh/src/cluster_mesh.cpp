@@ -70,15 +70,11 @@ class ClusterMeshSetup {
     m_mesh.triangleAlive.assign(triangleCount, 1);
     m_mesh.fan.clearAll(m_mesh.vertexCount);
     std::vector<WeightedPlane> plane(triangleCount);
-    std::vector<glm::dvec3> faceNormal(triangleCount);
     m_pair.run([&](int half) {
       const auto [vertexBegin, vertexEnd] = halfOf(m_mesh.vertexCount, half);
       m_mesh.fan.fill(m_mesh.corner, vertexBegin, vertexEnd);
       const auto [begin, end] = halfOf(triangleCount, half);
-      for (std::uint32_t t = begin; t < end; ++t) {
-        plane[t] = trianglePlane(m_mesh.position, &m_mesh.corner[3 * t]);
-        faceNormal[t] = plane[t].normal;
-      }
+      for (std::uint32_t t = begin; t < end; ++t) plane[t] = trianglePlane(m_mesh.position, &m_mesh.corner[3 * t]);
     });
     m_mesh.quadric.resize(m_mesh.vertexCount);
     m_pair.run([&](int half) {
@@ -89,9 +85,8 @@ class ClusterMeshSetup {
         m_mesh.quadric[v] = sum;
       }
     });
-    std::vector<WeightedPlane>().swap(plane);
-    setUpColours();
-    const double meanEdge = classify(faceNormal);
+    setUpColours(plane);
+    const double meanEdge = classify(plane);
 
     // Vertices on no triangle take no part.
     m_mesh.alive.resize(m_mesh.vertexCount);
@@ -105,8 +100,8 @@ class ClusterMeshSetup {
 
  private:
   // Area-weighted colour moments per cluster, so a cluster's squared colour deviation from
-  // any colour costs O(1) (as in the collapse builder).
-  void setUpColours() {
+  // any colour costs O(1) (as in the collapse builder); a triangle's plane weighs its area.
+  void setUpColours(const std::vector<WeightedPlane>& plane) {
     m_mesh.useColours = m_input.hasColours() && m_options.colourWeight > 0.0;
     if (!m_mesh.useColours) return;
     m_mesh.colourTolerance = kColourBorderTolerance * m_options.colourWeight;
@@ -114,10 +109,8 @@ class ClusterMeshSetup {
     for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v)
       m_mesh.colour[v] = glm::dvec3(m_input.colours[v]) * m_options.colourWeight;
     m_mesh.moment0.assign(m_mesh.vertexCount, 0.0);
-    for (std::uint32_t t = 0; t < m_mesh.corner.size() / 3; ++t) {
-      const double third = glm::length(triangleCross(m_mesh.position, &m_mesh.corner[3 * t])) / 6.0;  // of its area
-      for (int k = 0; k < 3; ++k) m_mesh.moment0[m_mesh.corner[3 * t + k]] += third;
-    }
+    for (std::uint32_t t = 0; t < plane.size(); ++t)
+      for (int k = 0; k < 3; ++k) m_mesh.moment0[m_mesh.corner[3 * t + k]] += plane[t].weight / 3.0;
     m_mesh.moment1.resize(m_mesh.vertexCount);
     m_mesh.moment2.resize(m_mesh.vertexCount);
     for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) {
@@ -138,7 +131,7 @@ class ClusterMeshSetup {
   };
 
   // Each edge (a, b), a < b, with a in [begin, end) once: from a's fan, with its sides.
-  void scanEdges(std::uint32_t begin, std::uint32_t end, const std::vector<glm::dvec3>& faceNormal,
+  void scanEdges(std::uint32_t begin, std::uint32_t end, const std::vector<WeightedPlane>& plane,
                  EdgeScan& scan) const {
     scan.neighbours.assign(m_mesh.vertexCount, 0);
     scan.open.assign(m_mesh.vertexCount, 0);
@@ -164,10 +157,10 @@ class ClusterMeshSetup {
           scan.boundaryEdges.push_back({a, b});
           scan.boundaryTriangle.push_back(sides[i].triangle);
         } else if (j - i == 2) {
-          const glm::dvec3 n0 = faceNormal[sides[i].triangle];
+          const glm::dvec3 n0 = plane[sides[i].triangle].normal;
           // Two consistently oriented triangles run the edge in opposite directions.
           const double flip = sides[i].forward != sides[i + 1].forward ? 1.0 : -1.0;
-          const glm::dvec3 n1 = faceNormal[sides[i + 1].triangle] * flip;
+          const glm::dvec3 n1 = plane[sides[i + 1].triangle].normal * flip;
           if (glm::dot(n0, n0) > 0.0 && glm::dot(n1, n1) > 0.0 && glm::dot(n0, n1) < m_mesh.featureCosine)
             scan.sharpEdges.push_back({a, b});
         } else {
@@ -181,12 +174,12 @@ class ClusterMeshSetup {
 
   // Classifies every vertex into the seed's categories from the edges around it, labels
   // feature lines, adds boundary planes; returns the mean edge length.
-  double classify(const std::vector<glm::dvec3>& faceNormal) {
+  double classify(const std::vector<WeightedPlane>& plane) {
     m_mesh.featureCosine = std::cos(m_options.featureAngleDegrees * 3.14159265358979323846 / 180.0);
     std::array<EdgeScan, 2> scan;
     m_pair.run([&](int half) {
       const auto [begin, end] = halfOf(m_mesh.vertexCount, half);
-      scanEdges(begin, end, faceNormal, scan[half]);
+      scanEdges(begin, end, plane, scan[half]);
     });
     std::vector<std::uint32_t> neighbours(m_mesh.vertexCount);
     std::vector<std::uint8_t> nonManifold(m_mesh.vertexCount);
@@ -207,7 +200,7 @@ class ClusterMeshSetup {
       boundaryEdges.insert(boundaryEdges.end(), half.boundaryEdges.begin(), half.boundaryEdges.end());
       for (std::size_t e = 0; e < half.boundaryEdges.size(); ++e) {
         const auto [a, b] = half.boundaryEdges[e];
-        addBoundaryEdgeQuadric(m_mesh.position[a], m_mesh.position[b], faceNormal[half.boundaryTriangle[e]],
+        addBoundaryEdgeQuadric(m_mesh.position[a], m_mesh.position[b], plane[half.boundaryTriangle[e]].normal,
                                kBoundaryWeight, m_mesh.quadric[a], m_mesh.quadric[b]);
       }
       for (double length : half.edgeLength) edgeLengthSum += length;

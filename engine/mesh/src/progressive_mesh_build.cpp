@@ -23,8 +23,7 @@ void clearSteps(SimplificationSteps& steps) {
 
 // Appends the steps of `more` to `steps`.
 void appendSteps(SimplificationSteps& steps, const SimplificationSteps& more) {
-  for (std::size_t s = 0; s < more.size(); ++s)
-    steps.add(more.representative[s], more.removedBy(s), more.ontoBy(s), more.error[s]);
+  for (std::size_t s = 0; s < more.size(); ++s) steps.addCopyOf(more, s);
 }
 
 // The builder's side fills a batch with each step, renamed to the caller's ids, and hands

@@ -29,6 +29,10 @@ struct SimplificationSteps {
   std::span<const std::uint32_t> ontoBy(std::size_t step) const {
     return {onto.data() + removedBegin[step], removedBegin[step + 1] - removedBegin[step]};
   }
+  // Appends a copy of `from`'s step `step`.
+  void addCopyOf(const SimplificationSteps& from, std::size_t step) {
+    add(from.representative[step], from.removedBy(step), from.ontoBy(step), from.error[step]);
+  }
   // A step moving every gathered vertex onto rep.
   void add(std::uint32_t rep, std::span<const std::uint32_t> gathered, float stepError) {
     onto.insert(onto.end(), gathered.size(), rep);
