@@ -33,6 +33,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <unordered_set>
 #include <utility>
 #include <vector>
@@ -469,6 +470,23 @@ int main(int argc, char** argv) {
     std::printf("%-8s %-20s %7s %10s | %-20s %7s %10s | %7s %s | %7s %10s\n", "model", "aware", "tris", "colourRms",
                 "blind", "tris", "colourRms", "ratio", "check", "mopt_t", "colourRms");
     rule(width2);
+    // Each builder's level at a count is extracted and measured once: the pairs share the
+    // aware builds, and the table by share meets the pairs' count again.
+    struct Measured {
+      std::size_t triangles;
+      polder::query::SurfaceDeviation deviation;
+    };
+    std::map<std::tuple<const Model*, Builder, std::size_t>, Measured> measured;
+    auto measuredAt = [&](const Model& model, Builder b, std::size_t target) -> const Measured& {
+      auto it = measured.find({&model, b, target});
+      if (it == measured.end()) {
+        const TriangleMesh level = extractAt(sequence(model, b), target);
+        it = measured.emplace(std::tuple{&model, b, target},
+                              Measured{level.triangleCount(), deviation(model, level, builderName(b))})
+                 .first;
+      }
+      return it->second;
+    };
     for (const Model& model : models) {
       if (!model.mesh.hasColours()) continue;
       const std::size_t target = model.mesh.triangleCount() / 10;
@@ -484,26 +502,24 @@ int main(int argc, char** argv) {
       const MeshoptResult reference = meshoptSimplify(model.mesh, target);
       const auto dReference = deviation(model, reference.mesh, "meshopt");
       for (const auto& [aware, blind, counts] : pairs) {
-        const TriangleMesh a = extractAt(sequence(model, aware), target);
-        const TriangleMesh c = extractAt(sequence(model, blind), target);
-        const auto da = deviation(model, a, builderName(aware));
-        const auto dc = deviation(model, c, builderName(blind));
+        const auto& [awareTriangles, da] = measuredAt(model, aware, target);
+        const auto& [blindTriangles, dc] = measuredAt(model, blind, target);
         const double ratio = da.colourRms / dc.colourRms;
         const bool ok = ratio <= kColourTarget;
         if (counts) colourMisses += !ok;
         std::printf("%-8s %-20s %7zu %10.4f | %-20s %7zu %10.4f | %7.3f %-5s | %7zu %10.4f\n", model.name.c_str(),
-                    builderName(aware), a.triangleCount(), da.colourRms, builderName(blind), c.triangleCount(),
+                    builderName(aware), awareTriangles, da.colourRms, builderName(blind), blindTriangles,
                     dc.colourRms, ratio, !counts ? "info" : ok ? "ok" : "MISS", reference.mesh.triangleCount(), dReference.colourRms);
         report["colour"].push_back({{"model", model.name},
                                     {"builder", builderKey(aware)},
                                     {"blind_builder", builderKey(blind)},
                                     {"counts_for_target", counts},
                                     {"target_triangles", target},
-                                    {"aware_triangles", a.triangleCount()},
+                                    {"aware_triangles", awareTriangles},
                                     {"aware_colour_rms", da.colourRms},
                                     {"aware_hausdorff", da.hausdorff},
                                     {"aware_rms", da.rms},
-                                    {"blind_triangles", c.triangleCount()},
+                                    {"blind_triangles", blindTriangles},
                                     {"blind_colour_rms", dc.colourRms},
                                     {"blind_hausdorff", dc.hausdorff},
                                     {"blind_rms", dc.rms},
@@ -528,8 +544,8 @@ int main(int argc, char** argv) {
         std::printf("%-14s %-10s", model.name.c_str(), isCollapse(aware) ? "collapse" : "cluster");
         for (double share : shares) {
           const auto target = static_cast<std::size_t>(double(model.mesh.triangleCount()) * share);
-          const double awareRms = deviation(model, extractAt(sequence(model, aware), target), builderName(aware)).colourRms;
-          const double blindRms = deviation(model, extractAt(sequence(model, blind), target), builderName(blind)).colourRms;
+          const double awareRms = measuredAt(model, aware, target).deviation.colourRms;
+          const double blindRms = measuredAt(model, blind, target).deviation.colourRms;
           std::printf(" %8.3f", awareRms / blindRms);
           report["colour_by_share"].push_back({{"model", model.name},
                                                {"builder", builderKey(aware)},

@@ -3,7 +3,7 @@
 // and a builder's error must come back as such.
 #include <gtest/gtest.h>
 
-#include <cmath>
+#include <algorithm>
 #include <limits>
 #include <string>
 
@@ -51,24 +51,18 @@ TEST(ProgressiveMeshBuild, EqualsTheStepsAssembledAfterwards) {
   for (std::uint32_t regions : {1u, 6u}) {
     SCOPED_TRACE(std::to_string(regions) + " regions");
     const RegionPartition partition = regions == 1 ? singleRegion() : automaticPartition(sphere.positions, regions);
-    {
-      auto steps = buildCollapseSteps(sphere, partition, CollapseOptions{});
+    // minSteps: long enough to span several handed-over batches.
+    auto compare = [&](const auto& options, const auto& buildSteps, std::uint32_t minSteps) {
+      auto steps = buildSteps(sphere, partition, options);
       ASSERT_TRUE(steps.ok());
       auto afterwards = ProgressiveMesh::assemble(sphere, partition, *steps);
-      auto pipelined = buildProgressiveMesh(sphere, partition, CollapseOptions{});
+      auto pipelined = buildProgressiveMesh(sphere, partition, options);
       ASSERT_TRUE(afterwards.ok() && pipelined.ok());
-      EXPECT_GT(pipelined->stepCount(), 1000u);  // long enough to span several handed-over batches
+      EXPECT_GT(pipelined->stepCount(), minSteps);
       expectSameSequence(*pipelined, *afterwards);
-    }
-    {
-      auto steps = buildClusterSteps(sphere, partition, ClusterOptions{});
-      ASSERT_TRUE(steps.ok());
-      auto afterwards = ProgressiveMesh::assemble(sphere, partition, *steps);
-      auto pipelined = buildProgressiveMesh(sphere, partition, ClusterOptions{});
-      ASSERT_TRUE(afterwards.ok() && pipelined.ok());
-      EXPECT_GT(pipelined->stepCount(), 500u);
-      expectSameSequence(*pipelined, *afterwards);
-    }
+    };
+    compare(CollapseOptions{}, [](auto&&... a) { return buildCollapseSteps(a...); }, 1000u);
+    compare(ClusterOptions{}, [](auto&&... a) { return buildClusterSteps(a...); }, 500u);
   }
 }
 

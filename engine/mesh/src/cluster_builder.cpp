@@ -8,7 +8,6 @@
 #include <cmath>
 #include <numeric>
 #include <optional>
-#include <span>
 #include <vector>
 
 #include "builder_setup.hpp"
@@ -60,11 +59,9 @@ class ClusterBuilder {
     steps.onto.reserve(vertexCount);
     steps.removedBegin.reserve(vertexCount / 2 + 1);
     steps.error.reserve(vertexCount / 2);
-    m_aliveVertices = static_cast<std::uint32_t>(std::count(m_mesh.alive.begin(), m_mesh.alive.end(), 1));
-    m_startVertices = m_aliveVertices;
-    m_aliveVertexList.reserve(m_aliveVertices);
     for (std::uint32_t v = 0; v < vertexCount; ++v)
       if (m_mesh.alive[v]) m_aliveVertexList.push_back(v);
+    m_aliveVertices = m_startVertices = static_cast<std::uint32_t>(m_aliveVertexList.size());
     m_part.assign(vertexCount, 0);
     const bool rounds = m_aliveVertices >= 2 * kRoundsDownTo;
     std::array<std::optional<ClusterWorker>, 2> worker;
@@ -129,8 +126,8 @@ class ClusterBuilder {
       for (const ClusterWorker* worker : workers) m_mesh.liveTriangles -= worker->trianglesRemoved();
       for (std::uint32_t v : m_aliveVertexList)  // no step reaches them, so they are still alive
         if (m_part[v] == kBetweenParts) m_mesh.stale[v] = 1;
-      reportProgress(removed[0] + removed[1]);
       const std::uint32_t removedInRound = removed[0] + removed[1];
+      reportProgress(removedInRound);
       if (removedInRound == 0 || removedInRound < (partSize[0] + partSize[1]) / 32) break;  // little left to gather
     }
   }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "builder_setup.hpp"
 #include "triangle_planes.hpp"

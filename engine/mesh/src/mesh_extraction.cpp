@@ -6,6 +6,8 @@
 #include <limits>
 #include <unordered_map>
 
+#include <polder/mix_bits.hpp>
+
 namespace polder::mesh {
 
 TriangleMesh extractMesh(const ProgressiveMeshInstance& instance) {
@@ -38,7 +40,7 @@ std::vector<std::uint32_t> indicesWeldedByPosition(const std::vector<std::uint32
   auto bitsOf = [&](std::uint32_t v) { return std::bit_cast<std::array<std::uint32_t, 3>>(positions[v]); };
   struct BitsHash {
     std::size_t operator()(const std::array<std::uint32_t, 3>& b) const {
-      return (std::size_t(b[0]) * 73856093u) ^ (std::size_t(b[1]) * 19349663u) ^ (std::size_t(b[2]) * 83492791u);
+      return std::size_t(mixBits((std::uint64_t(b[0]) << 32 | b[1]) ^ mixBits(b[2])));
     }
   };
   std::unordered_map<std::array<std::uint32_t, 3>, std::uint32_t, BitsHash> first;

@@ -2,8 +2,6 @@
 
 #include "progressive_mesh_assembler.hpp"
 
-#include <algorithm>
-
 namespace polder::mesh {
 
 namespace {

@@ -4,6 +4,8 @@
 #include <limits>
 #include <string>
 
+#include "builder_setup.hpp"
+
 namespace polder::mesh {
 
 namespace {
@@ -77,14 +79,10 @@ Status ProgressiveMeshAssembler::checkStep(std::uint32_t rep, std::span<const st
 }
 
 void ProgressiveMeshAssembler::collectTriangles() {
-  const std::size_t triangleCount = m_mesh.triangleCount();
-  m_corners.reserve(triangleCount * 3);
-  for (std::size_t t = 0; t < triangleCount; ++t) {
-    const std::uint32_t a = m_mesh.indices[3 * t], b = m_mesh.indices[3 * t + 1], c = m_mesh.indices[3 * t + 2];
-    if (isDegenerate(a, b, c)) continue;
-    m_corners.insert(m_corners.end(), {a, b, c});
-    m_owner.push_back(triangleRegion(m_partition, a, b, c));
-  }
+  m_corners = liveTriangleCorners(m_mesh);
+  m_owner.reserve(m_corners.size() / 3);
+  for (std::size_t i = 0; i < m_corners.size(); i += 3)
+    m_owner.push_back(triangleRegion(m_partition, m_corners[i], m_corners[i + 1], m_corners[i + 2]));
   m_originalCorners = m_corners;
   m_vanishStep.assign(m_owner.size(), kNever);
   // Own corners per vertex; border-table entries for vertices that foreign triangles use.
