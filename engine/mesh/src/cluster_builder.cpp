@@ -114,7 +114,7 @@ class ClusterBuilder {
       std::array<std::uint32_t, 2> removed{};
       auto work = [&](int w) {
         ClusterWorker& worker = *workers[w];
-        m_roundSteps[w] = {};
+        m_roundSteps[w].clear();
         m_roundKeys[w].clear();
         worker.beginRound(m_aliveVertexList, m_part, static_cast<std::uint8_t>(w));
         const auto quota = static_cast<std::uint32_t>(std::ceil(kRoundShare * partSize[w]));

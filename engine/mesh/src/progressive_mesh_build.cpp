@@ -1,25 +1,16 @@
 #include "polder/mesh/progressive_mesh_build.hpp"
 
 #include <condition_variable>
-#include <exception>
 #include <mutex>
 #include <optional>
-#include <system_error>
-#include <thread>
-#include <vector>
 
+#include "paired_work.hpp"
 #include "progressive_mesh_assembler.hpp"
 #include "step_listener.hpp"
 
 namespace polder::mesh {
 
 namespace {
-
-// Empties a batch of steps, keeping its room.
-void clearSteps(SimplificationSteps& steps) {
-  steps.representative.clear(), steps.removed.clear(), steps.onto.clear(), steps.error.clear();
-  steps.removedBegin.assign(1, 0);
-}
 
 // Appends the steps of `more` to `steps`.
 void appendSteps(SimplificationSteps& steps, const SimplificationSteps& more) {
@@ -34,13 +25,11 @@ class StepHandover final : public StepListener {
   void renumbered(std::span<const std::uint32_t> originalOf) override { m_originalOf = originalOf; }
 
   void stepTaken(const SimplificationSteps& steps) override {
-    const std::size_t s = steps.size() - 1;
-    m_renamed.clear();
-    for (std::uint32_t v : steps.removedBy(s)) m_renamed.push_back(m_originalOf[v]);
-    for (std::uint32_t v : steps.ontoBy(s)) m_renamed.push_back(m_originalOf[v]);
-    const std::span<const std::uint32_t> renamed(m_renamed);
-    const std::size_t count = renamed.size() / 2;
-    m_filling.add(m_originalOf[steps.representative[s]], renamed.first(count), renamed.last(count), steps.error[s]);
+    m_filling.addCopyOf(steps, steps.size() - 1);
+    const std::size_t s = m_filling.size() - 1;
+    m_filling.representative[s] = m_originalOf[m_filling.representative[s]];
+    for (std::size_t i = m_filling.removedBegin[s]; i < m_filling.removed.size(); ++i)
+      m_filling.removed[i] = m_originalOf[m_filling.removed[i]], m_filling.onto[i] = m_originalOf[m_filling.onto[i]];
     if (m_filling.size() >= kBatchSteps) handOver(false);
   }
 
@@ -68,62 +57,47 @@ class StepHandover final : public StepListener {
       m_closed = last;
     }
     m_changed.notify_one();
-    clearSteps(m_filling);
+    m_filling.clear();
   }
 
   std::span<const std::uint32_t> m_originalOf;
   SimplificationSteps m_filling;        // the builder's thread only, in the caller's ids
-  std::vector<std::uint32_t> m_renamed;  // stepTaken's room: removed, then onto
   std::mutex m_mutex;
   std::condition_variable m_changed;
   SimplificationSteps m_ready;  // guarded by m_mutex
   bool m_closed = false;
 };
 
-// Runs build(listener) -> Result<SimplificationSteps> with the assembler on a second thread.
+// Runs build(listener) -> Result<SimplificationSteps> with the assembler on a second thread
+// (or after it, where no second thread starts: the builder never waits for the assembler).
 template <class Build>
 Result<ProgressiveMesh> buildAndAssemble(const TriangleMesh& mesh, const RegionPartition& partition,
                                          const Build& build) {
   StepHandover handover;
-  std::optional<Result<ProgressiveMesh>> assembled;
-  std::exception_ptr assemblerFailure;
-  auto assemble = [&] {
-    try {
-      ProgressiveMeshAssembler assembler(mesh, partition);
-      Status status = assembler.begin();
-      SimplificationSteps batch;
-      while (handover.take(batch)) {
-        for (std::size_t s = 0; s < batch.size() && status; ++s)
-          status = assembler.addStep(batch.representative[s], batch.removedBy(s), batch.ontoBy(s), batch.error[s]);
-        clearSteps(batch);
-      }
-      if (status) assembled.emplace(assembler.finish());
-      else assembled.emplace(status.error());
-    } catch (...) {
-      assemblerFailure = std::current_exception();
-      SimplificationSteps rest;  // keep draining so the builder's side is never left waiting
-      while (handover.take(rest)) clearSteps(rest);
-    }
-  };
-  std::thread assembling;
-  try {
-    assembling = std::thread(assemble);
-  } catch (const std::system_error&) {
-    Result<SimplificationSteps> steps = build(nullptr);
-    if (!steps) return steps.error();
-    return ProgressiveMesh::assemble(mesh, partition, *steps);
-  }
   std::optional<Result<SimplificationSteps>> steps;
-  try {
-    steps.emplace(build(&handover));
-  } catch (...) {
+  std::optional<Result<ProgressiveMesh>> assembled;
+  auto buildSteps = [&] {
+    try {
+      steps.emplace(build(&handover));
+    } catch (...) {
+      handover.close();  // the assembler waits for it
+      throw;
+    }
     handover.close();
-    assembling.join();
-    throw;
-  }
-  handover.close();
-  assembling.join();
-  if (assemblerFailure) std::rethrow_exception(assemblerFailure);
+  };
+  auto assemble = [&] {
+    ProgressiveMeshAssembler assembler(mesh, partition);
+    Status status = assembler.begin();
+    SimplificationSteps batch;
+    while (handover.take(batch)) {
+      for (std::size_t s = 0; s < batch.size() && status; ++s)
+        status = assembler.addStep(batch.representative[s], batch.removedBy(s), batch.ontoBy(s), batch.error[s]);
+      batch.clear();
+    }
+    if (status) assembled.emplace(assembler.finish());
+    else assembled.emplace(status.error());
+  };
+  PairedWork().run([&](int half) { half == 0 ? buildSteps() : assemble(); });
   if (!*steps) return steps->error();
   return std::move(*assembled);
 }

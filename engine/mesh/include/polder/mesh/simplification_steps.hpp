@@ -29,6 +29,11 @@ struct SimplificationSteps {
   std::span<const std::uint32_t> ontoBy(std::size_t step) const {
     return {onto.data() + removedBegin[step], removedBegin[step + 1] - removedBegin[step]};
   }
+  // Empties the list, keeping its room.
+  void clear() {
+    representative.clear(), removed.clear(), onto.clear(), error.clear();
+    removedBegin.assign(1, 0);
+  }
   // Appends a copy of `from`'s step `step`.
   void addCopyOf(const SimplificationSteps& from, std::size_t step) {
     add(from.representative[step], from.removedBy(step), from.ontoBy(step), from.error[step]);
