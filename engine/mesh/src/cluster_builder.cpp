@@ -50,6 +50,7 @@ class ClusterBuilder {
       : m_input(mesh), m_partition(partition), m_options(options), m_listener(listener) {}
 
   SimplificationSteps run() {
+    if (m_listener) m_listener->builderOnTwoCores(true);
     m_mesh = cluster::setUpClusterMesh(m_input, m_partition, m_options, m_pair);
     SimplificationSteps steps;
     if (m_mesh.liveTriangles == 0) return steps;
@@ -70,6 +71,7 @@ class ClusterBuilder {
     });
     if (rounds) runRounds(*worker[0], *worker[1], steps);
 
+    if (m_listener) m_listener->builderOnTwoCores(false);
     // The rest with one worker on the whole mesh, reporting progress every so often.
     const std::uint32_t reportEvery = std::max<std::uint32_t>(1, m_startVertices / 64);
     std::fill(m_part.begin(), m_part.end(), std::uint8_t(0));

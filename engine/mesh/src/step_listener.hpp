@@ -22,6 +22,8 @@ class StepListener {
   virtual void renumbered(std::span<const std::uint32_t> originalOf) = 0;
   // After each step: the builder's steps so far, in its numbering; the last one is new.
   virtual void stepTaken(const SimplificationSteps& steps) = 0;
+  // The builder starts (true) or stops (false) keeping two cores busy with its own threads.
+  virtual void builderOnTwoCores(bool /*busy*/) {}
 };
 
 // buildCollapseSteps and buildClusterSteps, telling `listener` (when not null) of every step.
