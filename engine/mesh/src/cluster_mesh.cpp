@@ -13,6 +13,11 @@ namespace polder::mesh::cluster {
 
 namespace {
 
+// The first (half 0) or second (half 1) half of the range [0, count).
+std::pair<std::uint32_t, std::uint32_t> halfOf(std::uint32_t count, int half) {
+  return half == 0 ? std::pair{0u, count / 2} : std::pair{count / 2, count};
+}
+
 // Planes through boundary edges hold the outline: this times the edge length squared (the
 // collapse builder's boundaryWeight).
 constexpr double kBoundaryWeight = 4.0;
@@ -181,16 +186,17 @@ class ClusterMeshSetup {
       const auto [begin, end] = halfOf(m_mesh.vertexCount, half);
       scanEdges(begin, end, plane, scan[half]);
     });
-    std::vector<std::uint32_t> neighbours(m_mesh.vertexCount);
-    std::vector<std::uint8_t> nonManifold(m_mesh.vertexCount);
+    // The per-vertex findings of both halves, in the first's arrays.
+    std::vector<std::uint32_t>& neighbours = scan[0].neighbours;
+    std::vector<std::uint8_t>& nonManifold = scan[0].nonManifold;
     m_mesh.closedAround.resize(m_mesh.vertexCount);
-    m_mesh.colourBorder.resize(m_mesh.vertexCount);
     for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) {
-      neighbours[v] = scan[0].neighbours[v] + scan[1].neighbours[v];
+      neighbours[v] += scan[1].neighbours[v];
       m_mesh.closedAround[v] = !(scan[0].open[v] | scan[1].open[v]);
-      nonManifold[v] = scan[0].nonManifold[v] | scan[1].nonManifold[v];
-      m_mesh.colourBorder[v] = scan[0].colourBorder[v] | scan[1].colourBorder[v];
+      nonManifold[v] |= scan[1].nonManifold[v];
+      scan[0].colourBorder[v] |= scan[1].colourBorder[v];
     }
+    m_mesh.colourBorder = std::move(scan[0].colourBorder);
     // In the order of one scan over all vertices.
     std::vector<Edge> sharpEdges, boundaryEdges;
     double edgeLengthSum = 0.0;

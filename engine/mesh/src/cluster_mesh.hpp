@@ -7,7 +7,6 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <limits>
-#include <utility>
 #include <vector>
 
 #include "polder/mesh/cluster_builder.hpp"
@@ -20,11 +19,6 @@
 namespace polder::mesh::cluster {
 
 inline constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-
-// The first (half 0) or second (half 1) half of the range [0, count).
-inline std::pair<std::uint32_t, std::uint32_t> halfOf(std::uint32_t count, int half) {
-  return half == 0 ? std::pair{0u, count / 2} : std::pair{count / 2, count};
-}
 
 // The seed's five vertex categories (part A, preprocessing), found on the original mesh;
 // a feature the coarser mesh no longer shows relaxes later (demoteFadedFeature).

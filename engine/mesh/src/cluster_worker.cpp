@@ -303,7 +303,6 @@ bool ClusterWorker::keepsFeature(std::uint32_t p, std::uint32_t x) const {
 bool ClusterWorker::isBoundaryEdge(std::uint32_t p, std::uint32_t x) const {
   int shared = 0;
   for (std::uint32_t t : m_mesh.fan[p]) {
-    if (!m_mesh.triangleAlive[t]) continue;
     const std::uint32_t* c = &m_mesh.corner[3 * t];
     shared += c[0] == x || c[1] == x || c[2] == x;
   }
@@ -397,7 +396,7 @@ bool ClusterWorker::dropAPinchingMember(std::uint32_t r) {
   m_touched.clear();
   auto countTriangles = [&](std::uint32_t v) {
     for (std::uint32_t t : m_mesh.fan[v]) {
-      if (!m_mesh.triangleAlive[t] || m_triangleSeen[t] == m_linkStamp) continue;
+      if (m_triangleSeen[t] == m_linkStamp) continue;
       m_triangleSeen[t] = m_linkStamp;
       const bool vanishing = vanishes(t);
       for (int k = 0; k < 3; ++k) {
@@ -419,11 +418,10 @@ bool ClusterWorker::dropAPinchingMember(std::uint32_t r) {
   for (std::uint32_t x : m_touched) {
     if (m_mesh.vertexClass[x] == VertexClass::Complex) continue;  // not one fan to begin with
     const bool pinched = m_keptOnEdge[x] > 2;
-    const bool isolated = m_keptOnEdge[x] == 0 && m_vanishing[x] == liveTriangleCount(x);
+    const bool isolated = m_keptOnEdge[x] == 0 && m_vanishing[x] == m_mesh.fan[x].size();
     if (!pinched && !isolated) continue;
     std::size_t last = kNone;
     for (std::uint32_t t : m_mesh.fan[x]) {
-      if (!m_mesh.triangleAlive[t]) continue;
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t y = m_mesh.corner[3 * t + k];
         if (y == r || y == m_rTwin || m_treePoint[y].mark != m_stamp) continue;
@@ -436,12 +434,6 @@ bool ClusterWorker::dropAPinchingMember(std::uint32_t r) {
     return true;
   }
   return false;
-}
-
-std::uint32_t ClusterWorker::liveTriangleCount(std::uint32_t x) const {
-  std::uint32_t count = 0;
-  for (std::uint32_t t : m_mesh.fan[x]) count += m_mesh.triangleAlive[t];
-  return count;
 }
 
 // Compacts m_members and their scores, renumbering parents (a kept member's parent is kept too).
@@ -466,7 +458,7 @@ void ClusterWorker::removeDroppedMembers() {
 // marked corner) by more than the limit, or flattens it.
 bool ClusterWorker::moveFlipsATriangle(std::uint32_t v, std::uint32_t r) const {
   for (std::uint32_t t : m_mesh.fan[v]) {
-    if (!m_mesh.triangleAlive[t] || vanishes(t)) continue;
+    if (vanishes(t)) continue;
     const std::uint32_t* c = &m_mesh.corner[3 * t];
     glm::dvec3 p[3], q[3];
     for (int k = 0; k < 3; ++k) {
@@ -493,7 +485,7 @@ bool ClusterWorker::vanishes(std::uint32_t t) const {
 // Whether some triangle at the cluster survives the step. If none does, the piece of
 // surface holding r would vanish whole: the coarsest level keeps at least a triangle.
 bool ClusterWorker::keepsATriangle(std::uint32_t r) const {
-  auto survives = [&](std::uint32_t t) { return m_mesh.triangleAlive[t] && !vanishes(t); };
+  auto survives = [&](std::uint32_t t) { return !vanishes(t); };
   if (std::any_of(m_mesh.fan[r].begin(), m_mesh.fan[r].end(), survives)) return true;
   for (std::uint32_t v : m_members)
     if (std::any_of(m_mesh.fan[v].begin(), m_mesh.fan[v].end(), survives)) return true;
@@ -593,7 +585,6 @@ void ClusterWorker::compactFan(std::uint32_t v) {
 // so a smooth surface never grows features, and a real crease keeps its sharp edges.
 bool ClusterWorker::demoteFadedFeature(std::uint32_t x) {
   if (m_mesh.vertexClass[x] != VertexClass::Corner && m_mesh.vertexClass[x] != VertexClass::SharpEdge) return false;
-  compactFan(x);
   m_links.clear();
   for (std::uint32_t t : m_mesh.fan[x])
     for (int k = 0; k < 3; ++k) {

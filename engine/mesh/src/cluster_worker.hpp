@@ -100,7 +100,6 @@ class ClusterWorker {
   // Where member i goes: r, or r's twin for a seam member's twin.
   std::uint32_t targetOf(std::size_t i, std::uint32_t r) const { return isTwinEntry(i) ? m_rTwin : r; }
   bool dropAPinchingMember(std::uint32_t r);
-  std::uint32_t liveTriangleCount(std::uint32_t x) const;
   void removeDroppedMembers();
   bool moveFlipsATriangle(std::uint32_t v, std::uint32_t r) const;
   bool vanishes(std::uint32_t t) const;

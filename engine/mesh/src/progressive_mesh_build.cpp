@@ -13,11 +13,6 @@ namespace polder::mesh {
 
 namespace {
 
-// Appends the steps of `more` to `steps`.
-void appendSteps(SimplificationSteps& steps, const SimplificationSteps& more) {
-  for (std::size_t s = 0; s < more.size(); ++s) steps.addCopyOf(more, s);
-}
-
 // The builder's side fills a batch with each step, renamed to the caller's ids, and hands
 // full batches over; the assembler's side waits for them. Batches keep the locking rare
 // (a step takes a few microseconds).
@@ -65,7 +60,8 @@ class StepHandover final : public StepListener {
     {
       std::lock_guard lock(m_mutex);
       if (m_ready.size() == 0) std::swap(m_ready, m_filling);
-      else appendSteps(m_ready, m_filling);  // the assembler is behind
+      else  // the assembler is behind
+        for (std::size_t s = 0; s < m_filling.size(); ++s) m_ready.addCopyOf(m_filling, s);
       m_closed = last;
     }
     m_changed.notify_one();
