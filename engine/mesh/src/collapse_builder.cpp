@@ -89,6 +89,12 @@ class CollapseBuilder {
     while (!m_queue.empty() && m_liveTriangles > m_options.stopAtTriangles) {
       const std::uint32_t v = m_queue.top();
       m_queue.remove(v);
+      if (!m_queue.empty()) {  // often the next one looked at: its state and fan start loading
+        const std::uint32_t next = m_queue.top();
+        __builtin_prefetch(&m_vertex[next]);
+        __builtin_prefetch(reinterpret_cast<const char*>(&m_vertex[next]) + 64);
+        m_fan.prefetch(next);
+      }
       const std::uint32_t u = m_vertex[v].target;
       if (m_twin[v] != kNoTwin) {
         if (!collapseSeam(v, u, steps)) updateCandidate(v, /*validate=*/true);
