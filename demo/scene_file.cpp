@@ -11,6 +11,7 @@
 #include <polder/mesh/collapse_builder.hpp>
 #include <polder/mesh/progressive_mesh_build.hpp>
 #include <polder/mesh_io/mesh_file.hpp>
+#include <polder/scene/heightfield_mesh.hpp>
 #include <polder/terrain/heightfield_crop.hpp>
 
 #include "cli_support.hpp"
@@ -159,21 +160,6 @@ Result<terrain::Heightfield> demOf(const SceneReader& reader, const json& value,
   return field;
 }
 
-// A DEM as one mesh: two triangles per cell (the seed's Silvretta model).
-mesh::TriangleMesh meshOfHeightfield(const terrain::Heightfield& field) {
-  mesh::TriangleMesh mesh;
-  for (int j = 0; j < field.height; ++j)
-    for (int i = 0; i < field.width; ++i)
-      mesh.positions.emplace_back(float(i * field.spacingX), float(j * field.spacingY), field.at(i, j));
-  for (int j = 0; j + 1 < field.height; ++j)
-    for (int i = 0; i + 1 < field.width; ++i) {
-      const auto a = std::uint32_t(j * field.width + i), b = a + 1, c = a + std::uint32_t(field.width), d = c + 1;
-      mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
-    }
-  mesh.normals = mesh::computeVertexNormals(mesh.positions, mesh.indices);
-  return mesh;
-}
-
 Result<std::shared_ptr<const scene::MeshModel>> modelOf(const SceneReader& reader, const std::string& name,
                                                         const json& value, std::size_t& triangles) {
   const std::string where = "models." + name;
@@ -189,7 +175,7 @@ Result<std::shared_ptr<const scene::MeshModel>> modelOf(const SceneReader& reade
   } else if (value.contains("dem")) {
     auto field = demOf(reader, value, where);
     if (!field) return field.error();
-    shape = meshOfHeightfield(*field);
+    shape = scene::heightfieldMesh(*field);
   } else {
     return reader.error(where, "a model needs a \"file\" (OBJ/PLY) or a \"dem\"");
   }

@@ -8,6 +8,7 @@
 #include "allocation_counter.hpp"
 #include "mesh_test_shapes.hpp"
 #include "polder/mesh/collapse_builder.hpp"
+#include "polder/scene/heightfield_mesh.hpp"
 #include "polder/scene/scene.hpp"
 #include "polder/terrain/generator.hpp"
 
@@ -249,6 +250,35 @@ TEST(Scene, SteadyFramesDoNotAllocateEvenWithObjectsMoving) {
     }
     EXPECT_EQ(test::allocationCount() - before, 0u) << (mode == LodMode::TriangleBudget ? "budget mode" : "error mode");
   }
+}
+
+// The Silvretta model: every sample a vertex at its world position, two triangles per cell,
+// each facing up, so the mesh is the heightfield's surface and nothing else.
+TEST(HeightfieldMesh, EverySampleAVertexAndTwoUpwardTrianglesPerCell) {
+  terrain::Heightfield field(4, 3, 30.0, 20.0);
+  for (int j = 0; j < field.height; ++j)
+    for (int i = 0; i < field.width; ++i) field.at(i, j) = float(100 + 7 * i - 5 * j + (i * j) % 3);
+  const mesh::TriangleMesh shape = heightfieldMesh(field);
+  ASSERT_EQ(shape.vertexCount(), 12u);
+  ASSERT_EQ(shape.triangleCount(), 2u * 3u * 2u);
+  for (int j = 0; j < field.height; ++j)
+    for (int i = 0; i < field.width; ++i) {
+      const glm::dvec3 expected = field.worldPosition(i, j);
+      const glm::vec3& p = shape.positions[std::size_t(j * field.width + i)];
+      EXPECT_EQ(glm::dvec3(p), expected) << i << "," << j;
+    }
+  double area = 0.0;
+  for (std::size_t t = 0; t < shape.triangleCount(); ++t) {
+    const glm::dvec3 a = shape.positions[shape.indices[3 * t]], b = shape.positions[shape.indices[3 * t + 1]],
+                     c = shape.positions[shape.indices[3 * t + 2]];
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    EXPECT_GT(n.z, 0.0) << "triangle " << t << " faces down";
+    area += 0.5 * n.z;  // projected onto the ground plane
+  }
+  EXPECT_NEAR(area, field.extentX() * field.extentY(), 1e-9);  // the cells tile the ground once
+  ASSERT_EQ(shape.normals.size(), shape.positions.size());
+  for (const glm::vec3& n : shape.normals) EXPECT_GT(n.z, 0.5f);
+  EXPECT_EQ(heightfieldMesh(terrain::Heightfield(1, 5, 1.0, 1.0)).triangleCount(), 0u);
 }
 
 }  // namespace
