@@ -2,7 +2,7 @@
 // meshoptimizer's meshopt_simplify as the reference (meshoptimizer is used here only).
 //
 //   simplify_bench [DATA_DIR] [--json PATH] [--samples N] [--runs N] [--trips N]
-//                  [--only quality,colour,speed,moves] [--benchmark_...]
+//                  [--only quality,colour,speed,moves,scale] [--benchmark_...]
 //
 // DATA_DIR defaults to POLDER_SHARED_DATA_DIR (the folder holding meshes/). Tables:
 //   1. Quality: Hausdorff and RMS distance (measureSurfaceDeviation, relative to the
@@ -20,6 +20,9 @@
 //      base count; bunny to 500 triangles (target < 0.1 s).
 //   4. Level moves (the seed's Table 2): base mesh -> full mesh -> base mesh round trips,
 //      median over --trips, with the level count and the triangles changed per level.
+//   5. Speed at terrain scale: the Mt Rainier DEM as one mesh (the scene files' Silvretta
+//      model), cropped to 261 x 261 samples (135,200 triangles) and 725 x 725 (1,048,352),
+//      timed as in 3 over at most 3 runs (target >= 1 M input triangles/s).
 // Arguments starting with --benchmark go to Google Benchmark, which then also runs its
 // registered timings (sequence builds and round trips).
 #include <algorithm>
@@ -52,6 +55,9 @@
 #include <polder/mesh/region_partition.hpp>
 #include <polder/mesh_io/mesh_file.hpp>
 #include <polder/query/surface_deviation.hpp>
+#include <polder/scene/heightfield_mesh.hpp>
+#include <polder/terrain/dem_reader.hpp>
+#include <polder/terrain/heightfield_crop.hpp>
 
 #ifndef POLDER_SHARED_DATA_DIR
 #define POLDER_SHARED_DATA_DIR ""
@@ -279,7 +285,7 @@ int main(int argc, char** argv) {
   int runs = 5;
   int trips = 200;
   std::size_t samples = 200000;
-  std::string only = "quality,colour,speed,moves";
+  std::string only = "quality,colour,speed,moves,scale";
   std::vector<char*> benchmarkArgs{argv[0]};
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -302,7 +308,7 @@ int main(int argc, char** argv) {
     else if (arg == "-h" || arg == "--help") {
       std::printf(
           "usage: %s [DATA_DIR] [--json PATH] [--samples N] [--runs N] [--trips N]\n"
-          "       [--only quality,colour,speed,moves] [--benchmark_...]\n",
+          "       [--only quality,colour,speed,moves,scale] [--benchmark_...]\n",
           argv[0]);
       return 0;
     } else if (!arg.empty() && arg[0] != '-')
@@ -559,6 +565,71 @@ int main(int argc, char** argv) {
     }
   }
 
+  // One row of the speed tables: the whole sequence's median build time over `caseRuns`
+  // runs, against meshopt_simplify to the same base count; true when it meets the target.
+  struct SpeedCase {
+    const Model* model;
+    Builder builder;
+    std::uint32_t stopAt;
+  };
+  const int speedWidth = 132;
+  auto printSpeedHeader = [&]() {
+    rule(speedWidth);
+    std::printf("%-8s %-20s %8s %8s %7s | %9s %9s %9s | %10s %9s %s\n", "model", "builder", "in_tris", "base",
+                "steps", "steps_ms", "total_ms", "M tri/s", "meshopt_ms", "mopt M/s", "check");
+    rule(speedWidth);
+  };
+  auto timeSpeedCase = [&](const SpeedCase& sc, int caseRuns, const char* reportKey) {
+    const Model& model = *sc.model;
+    std::vector<double> stepsTimes, totalTimes, meshoptTimes;
+    std::uint32_t base = 0;
+    std::size_t stepCount = 0;
+    for (int run = 0; run < caseRuns; ++run) {
+      const auto start = Clock::now();
+      check(buildSteps(model.mesh, sc.builder, sc.stopAt), model.name + " " + builderName(sc.builder));
+      stepsTimes.push_back(secondsSince(start));
+      double seconds = 0.0;
+      auto pm = buildSequence(model, sc.builder, sc.stopAt, &seconds);
+      totalTimes.push_back(seconds);
+      base = baseTriangles(*pm);
+      stepCount = pm->stepCount();
+    }
+    std::size_t meshoptTriangles = 0;
+    for (int run = 0; run < caseRuns; ++run) {
+      const MeshoptResult r = meshoptSimplify(model.mesh, base);
+      meshoptTimes.push_back(r.seconds);
+      meshoptTriangles = r.mesh.triangleCount();
+    }
+    const double steps = median(stepsTimes), total = median(totalTimes), mo = median(meshoptTimes);
+    const double rate = model.mesh.triangleCount() / total / 1e6;
+    const double moRate = model.mesh.triangleCount() / mo / 1e6;
+    bool ok = rate >= kSpeedTarget;
+    std::string label = builderName(sc.builder);
+    if (sc.stopAt) {
+      ok = total < kBunny500Seconds;
+      label = std::string(isCollapse(sc.builder) ? "collapse" : "cluster") +
+              (sc.builder == Builder::CollapseGeometry ? " geo" : "") + " ->" + std::to_string(sc.stopAt);
+    }
+    std::printf("%-8s %-20s %8zu %8u %7zu | %9.2f %9.2f %9.2f | %10.2f %9.2f %s%s\n", model.name.c_str(),
+                label.c_str(), model.mesh.triangleCount(), base, stepCount, steps * 1e3, total * 1e3, rate,
+                mo * 1e3, moRate, ok ? "ok" : "MISS",
+                sc.stopAt ? (" (target < " + std::to_string(int(kBunny500Seconds * 1000)) + " ms)").c_str() : "");
+    report[reportKey].push_back({{"model", model.name},
+                               {"builder", builderKey(sc.builder)},
+                               {"stop_at_triangles", sc.stopAt},
+                               {"input_triangles", model.mesh.triangleCount()},
+                               {"base_triangles", base},
+                               {"steps", stepCount},
+                               {"steps_ms", steps * 1e3},
+                               {"total_ms", total * 1e3},
+                               {"m_triangles_per_s", rate},
+                               {"meshopt_ms", mo * 1e3},
+                               {"meshopt_triangles", meshoptTriangles},
+                               {"meshopt_m_triangles_per_s", moRate},
+                               {"ok", ok}});
+    return ok;
+  };
+
   // ---------------------------------------------------------------- 3. speed
   if (section("speed")) {
     std::printf(
@@ -566,73 +637,15 @@ int main(int argc, char** argv) {
         "   median of %d runs; M input triangles/s (target >= %.1f); steps_ms: the builder alone;\n"
         "   meshopt_simplify to the same base triangle count for reference\n",
         runs, kSpeedTarget);
-    const int width3 = 132;
-    rule(width3);
-    std::printf("%-8s %-20s %8s %8s %7s | %9s %9s %9s | %10s %9s %s\n", "model", "builder", "in_tris", "base",
-                "steps", "steps_ms", "total_ms", "M tri/s", "meshopt_ms", "mopt M/s", "check");
-    rule(width3);
-    struct SpeedCase {
-      const Model* model;
-      Builder builder;
-      std::uint32_t stopAt;
-    };
+    printSpeedHeader();
     std::vector<SpeedCase> speedCases;
     for (const Model& model : models)
       for (Builder b : {Builder::CollapseGeometry, Builder::CollapseDefault, Builder::ClusterDefault})
         speedCases.push_back({&model, b, 0});
     for (Builder b : {Builder::CollapseGeometry, Builder::CollapseDefault, Builder::ClusterDefault})
       speedCases.push_back({&models[0], b, 500});
-    for (const SpeedCase& sc : speedCases) {
-      const Model& model = *sc.model;
-      std::vector<double> stepsTimes, totalTimes, meshoptTimes;
-      std::uint32_t base = 0;
-      std::size_t stepCount = 0;
-      for (int run = 0; run < runs; ++run) {
-        const auto start = Clock::now();
-        check(buildSteps(model.mesh, sc.builder, sc.stopAt), model.name + " " + builderName(sc.builder));
-        stepsTimes.push_back(secondsSince(start));
-        double seconds = 0.0;
-        auto pm = buildSequence(model, sc.builder, sc.stopAt, &seconds);
-        totalTimes.push_back(seconds);
-        base = baseTriangles(*pm);
-        stepCount = pm->stepCount();
-      }
-      std::size_t meshoptTriangles = 0;
-      for (int run = 0; run < runs; ++run) {
-        const MeshoptResult r = meshoptSimplify(model.mesh, base);
-        meshoptTimes.push_back(r.seconds);
-        meshoptTriangles = r.mesh.triangleCount();
-      }
-      const double steps = median(stepsTimes), total = median(totalTimes), mo = median(meshoptTimes);
-      const double rate = model.mesh.triangleCount() / total / 1e6;
-      const double moRate = model.mesh.triangleCount() / mo / 1e6;
-      bool ok = rate >= kSpeedTarget;
-      std::string label = builderName(sc.builder);
-      if (sc.stopAt) {
-        ok = total < kBunny500Seconds;
-        label = std::string(isCollapse(sc.builder) ? "collapse" : "cluster") +
-                (sc.builder == Builder::CollapseGeometry ? " geo" : "") + " ->" + std::to_string(sc.stopAt);
-      }
-      speedMisses += !ok;
-      std::printf("%-8s %-20s %8zu %8u %7zu | %9.2f %9.2f %9.2f | %10.2f %9.2f %s%s\n", model.name.c_str(),
-                  label.c_str(), model.mesh.triangleCount(), base, stepCount, steps * 1e3, total * 1e3, rate,
-                  mo * 1e3, moRate, ok ? "ok" : "MISS",
-                  sc.stopAt ? (" (target < " + std::to_string(int(kBunny500Seconds * 1000)) + " ms)").c_str() : "");
-      report["speed"].push_back({{"model", model.name},
-                                 {"builder", builderKey(sc.builder)},
-                                 {"stop_at_triangles", sc.stopAt},
-                                 {"input_triangles", model.mesh.triangleCount()},
-                                 {"base_triangles", base},
-                                 {"steps", stepCount},
-                                 {"steps_ms", steps * 1e3},
-                                 {"total_ms", total * 1e3},
-                                 {"m_triangles_per_s", rate},
-                                 {"meshopt_ms", mo * 1e3},
-                                 {"meshopt_triangles", meshoptTriangles},
-                                 {"meshopt_m_triangles_per_s", moRate},
-                                 {"ok", ok}});
-    }
-    rule(width3);
+    for (const SpeedCase& sc : speedCases) speedMisses += !timeSpeedCase(sc, runs, "speed");
+    rule(speedWidth);
   }
 
   // ---------------------------------------------------------------- 4. level moves
@@ -703,10 +716,44 @@ int main(int argc, char** argv) {
     rule(width4);
   }
 
-  std::printf("\nsummary: %d collapse quality miss(es), %d colour miss(es), %d speed miss(es)\n", qualityMisses,
-              colourMisses, speedMisses);
-  report["summary"] = {
-      {"quality_misses", qualityMisses}, {"colour_misses", colourMisses}, {"speed_misses", speedMisses}};
+  // ---------------------------------------------------------------- 5. terrain scale
+  int scaleMisses = 0;
+  if (section("scale")) {
+    const std::filesystem::path demPath = std::filesystem::path(dataDir) / "dems" / "mt_rainier_90m_srtm3.tif";
+    const int scaleRuns = std::min(runs, 3);
+    std::printf(
+        "\n5. Build speed at terrain scale: %s as one mesh (the scene files' Silvretta model),\n"
+        "   centre crops of 261 x 261 and 725 x 725 samples; whole sequence, median of %d runs (target >= %.1f)\n",
+        demPath.filename().c_str(), scaleRuns, kSpeedTarget);
+    if (!std::filesystem::exists(demPath)) {
+      std::printf("   skipped: %s is missing\n", demPath.c_str());
+    } else {
+      const polder::terrain::Dem dem = check(polder::terrain::readDem(demPath), demPath.string());
+      std::vector<Model> terrains;
+      for (int side : {261, 725}) {
+        Model terrain;
+        terrain.name = "dem-" + std::to_string(side);
+        terrain.file = demPath.filename().string();
+        terrain.mesh = polder::scene::heightfieldMesh(
+            check(polder::terrain::cropCentre(dem.field, side, side), demPath.string() + " crop"));
+        terrains.push_back(std::move(terrain));
+      }
+      printSpeedHeader();
+      for (const Model& terrain : terrains)
+        for (Builder b : {Builder::CollapseDefault, Builder::ClusterDefault})
+          scaleMisses += !timeSpeedCase({&terrain, b, 0}, scaleRuns, "scale");
+      rule(speedWidth);
+    }
+  }
+
+  std::printf(
+      "\nsummary: %d collapse quality miss(es), %d colour miss(es), %d speed miss(es), %d terrain-scale speed "
+      "miss(es)\n",
+      qualityMisses, colourMisses, speedMisses, scaleMisses);
+  report["summary"] = {{"quality_misses", qualityMisses},
+                       {"colour_misses", colourMisses},
+                       {"speed_misses", speedMisses},
+                       {"scale_misses", scaleMisses}};
 
   if (!jsonPath.empty()) {
     std::ofstream out(jsonPath);
