@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -96,6 +97,8 @@ class CollapseBuilder {
         m_fan.prefetch(next);
       }
       const std::uint32_t u = m_vertex[v].target;
+      m_fan.prefetch(u);
+      prefetchRing(v);
       if (m_twin[v] != kNoTwin) {
         if (!collapseSeam(v, u, steps)) updateCandidate(v, /*validate=*/true);
         continue;
@@ -201,6 +204,15 @@ class CollapseBuilder {
     if (m_dims == 0) return;
     const double thirdOfArea = glm::length(triangleCross(position, corner)) / 6.0;
     for (int k = 0; k < 3; ++k) m_moment0[corner[k]] += thirdOfArea;
+  }
+
+  // Starts loading the triangles of v's fan, then their corners' states, all at once: the
+  // checks and the collapse visit each of them, one after another.
+  void prefetchRing(std::uint32_t v) const {
+    const std::span<const std::uint32_t> fan = m_fan[v];
+    for (std::uint32_t t : fan) __builtin_prefetch(&m_corner[3 * t]);
+    for (std::uint32_t t : fan)
+      for (int k = 0; k < 3; ++k) __builtin_prefetch(&m_vertex[m_corner[3 * t + k]]);
   }
 
   // Gathers v's neighbours with the number of triangles on each edge.
