@@ -1,16 +1,21 @@
 #include "progressive_mesh_assembler.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "builder_setup.hpp"
+#include "paired_work.hpp"
 
 namespace polder::mesh {
 
 namespace {
 
 constexpr std::uint32_t kNever = std::numeric_limits<std::uint32_t>::max();
+// Below this many triangles finish() stays on one thread: starting a second costs more.
+constexpr std::size_t kPairedFinishTriangles = 4096;
 
 // The items 0..count-1 ordered by bucket (stable within a bucket); bucketOf(i) < buckets.
 template <class BucketOf>
@@ -151,15 +156,41 @@ bool ProgressiveMeshAssembler::hasDegenerated(std::uint32_t t) const {
   return isDegenerate(m_corners[3 * t], m_corners[3 * t + 1], m_corners[3 * t + 2]);
 }
 
+// The vertex table and the triangles' slots do not depend on each other, nor do the index
+// buffers and the changes once both are known: each pair runs on two threads (on the bunny
+// this is a seventh of a pipelined build, left for after the builder ends).
 ProgressiveMesh ProgressiveMeshAssembler::finish() {
   ProgressiveMesh out;
-  const std::uint32_t regionCount = m_partition.regionCount;
-  const std::size_t vertexCount = m_mesh.vertexCount();
   out.m_stepCount = m_stepRegion.size();
+  out.m_regions.resize(m_partition.regionCount);
+  Layout layout;
+  std::optional<PairedWork> pair;
+  if (m_owner.size() >= kPairedFinishTriangles) pair.emplace();
+  auto inPairs = [&](const std::function<void(int)>& half) {
+    if (pair) {
+      pair->run(half);
+    } else {
+      half(0);
+      half(1);
+    }
+  };
+  inPairs([&](int half) { half == 0 ? layOutVertices(out, layout) : layOutTriangles(out, layout); });
+  inPairs([&](int half) { half == 0 ? fillIndexBuffers(out, layout) : translateChanges(out, layout); });
+  for (const RegionSequence& seq : out.m_regions)
+    out.m_vertices.indices.insert(out.m_vertices.indices.end(), seq.m_fullIndices.begin(), seq.m_fullIndices.end());
+  return out;
+}
 
-  // Vertex order: by region, then the vertices removed last first.
-  // (Counting sorts: the keys are step numbers, so this stays linear.)
-  auto removalKey = [&](std::uint32_t v) { return m_removalStep[v] == kNever ? kNever : m_localStep[m_removalStep[v]]; };
+// A removed vertex's local step, or kNever.
+std::uint32_t ProgressiveMeshAssembler::removalKey(std::uint32_t v) const {
+  return m_removalStep[v] == kNever ? kNever : m_localStep[m_removalStep[v]];
+}
+
+// Vertex order: by region, then the vertices removed last first (counting sorts: the keys
+// are step numbers, so this stays linear); the vertex table in that order.
+void ProgressiveMeshAssembler::layOutVertices(ProgressiveMesh& out, Layout& layout) const {
+  const std::uint32_t regionCount = m_partition.regionCount;
+  const auto vertexCount = static_cast<std::uint32_t>(m_mesh.vertexCount());
   std::vector<std::uint32_t> regionBucketBase(regionCount + 1, 0);
   for (std::uint32_t r = 0; r < regionCount; ++r) regionBucketBase[r + 1] = regionBucketBase[r] + m_regionStepCount[r] + 1;
   // Within a region: never removed first (bucket 0), then the last removed.
@@ -167,52 +198,81 @@ ProgressiveMesh ProgressiveMeshAssembler::finish() {
     const std::uint32_t r = m_partition.regionOf(v), key = removalKey(v);
     return regionBucketBase[r] + (key == kNever ? 0 : m_regionStepCount[r] - key);
   };
-  const std::vector<std::uint32_t> order =
-      countingSort(static_cast<std::uint32_t>(vertexCount), regionBucketBase[regionCount], vertexBucket);
-  std::vector<std::uint32_t> newIndex(vertexCount);
-  for (std::uint32_t i = 0; i < vertexCount; ++i) newIndex[order[i]] = i;
-  out.m_originalVertex = order;
+  layout.order = countingSort(vertexCount, regionBucketBase[regionCount], vertexBucket);
+  layout.newIndex.resize(vertexCount);
+  for (std::uint32_t i = 0; i < vertexCount; ++i) layout.newIndex[layout.order[i]] = i;
+  out.m_originalVertex = layout.order;
   out.m_vertexRegion.resize(vertexCount);
   out.m_vertices.positions.resize(vertexCount);
   if (m_mesh.hasNormals()) out.m_vertices.normals.resize(vertexCount);
   if (m_mesh.hasColours()) out.m_vertices.colours.resize(vertexCount);
   if (m_mesh.hasUvs()) out.m_vertices.uvs.resize(vertexCount);
   for (std::uint32_t i = 0; i < vertexCount; ++i) {
-    const std::uint32_t v = order[i];
+    const std::uint32_t v = layout.order[i];
     out.m_vertexRegion[i] = m_partition.regionOf(v);
     out.m_vertices.positions[i] = m_mesh.positions[v];
     if (m_mesh.hasNormals()) out.m_vertices.normals[i] = m_mesh.normals[v];
     if (m_mesh.hasColours()) out.m_vertices.colours[i] = m_mesh.colours[v];
     if (m_mesh.hasUvs()) out.m_vertices.uvs[i] = m_mesh.uvs[v];
   }
+}
 
-  // Triangles per region, in the input's order.
-  std::vector<std::vector<std::uint32_t>> trianglesOf(regionCount);
-  for (std::uint32_t t = 0; t < m_owner.size(); ++t) trianglesOf[m_owner[t]].push_back(t);
-  std::vector<std::uint32_t> slotOf(m_owner.size());
-  out.m_regions.resize(regionCount);
-  std::uint32_t vertexCursor = 0;
+// Each region's triangles (in the input's order) and their slots: survivors first, then
+// those that vanish last; the triangle counts and the (monotone) errors after each step.
+void ProgressiveMeshAssembler::layOutTriangles(ProgressiveMesh& out, Layout& layout) const {
+  const std::uint32_t regionCount = m_partition.regionCount;
+  layout.trianglesOf.assign(regionCount, {});
+  for (std::uint32_t t = 0; t < m_owner.size(); ++t) layout.trianglesOf[m_owner[t]].push_back(t);
+  layout.slotOf.resize(m_owner.size());
   for (std::uint32_t r = 0; r < regionCount; ++r) {
     RegionSequence& seq = out.m_regions[r];
     const std::size_t stepCount = m_regionStepCount[r];
     seq.m_stepCount = stepCount;
-    const std::vector<std::uint32_t>& tris = trianglesOf[r];
-    // Slots: survivors first, then those that vanish last.
+    const std::vector<std::uint32_t>& tris = layout.trianglesOf[r];
     const auto bucket = [&](std::uint32_t i) {
       const std::uint32_t key = m_vanishStep[tris[i]];
       return key == kNever ? 0u : std::uint32_t(stepCount) - key;
     };
     const std::vector<std::uint32_t> sorted =
         countingSort(static_cast<std::uint32_t>(tris.size()), std::uint32_t(stepCount) + 1, bucket);
-    for (std::uint32_t i = 0; i < sorted.size(); ++i) slotOf[tris[sorted[i]]] = 3 * i;
+    for (std::uint32_t i = 0; i < sorted.size(); ++i) layout.slotOf[tris[sorted[i]]] = 3 * i;
+    std::vector<std::uint32_t> vanishing(stepCount + 1, 0);
+    for (std::uint32_t t : tris) ++vanishing[std::min<std::size_t>(m_vanishStep[t], stepCount)];
+    seq.m_trianglesAfterSteps.resize(stepCount + 1);
+    auto alive = static_cast<std::uint32_t>(tris.size());
+    for (std::size_t m = 0; m <= stepCount; ++m) {
+      seq.m_trianglesAfterSteps[m] = alive;
+      if (m < stepCount) alive -= vanishing[m];
+    }
+    seq.m_errorAfterSteps.assign(stepCount + 1, 0.0f);
+  }
+  std::vector<float> runningError(regionCount, 0.0f);
+  for (std::size_t s = 0; s < m_stepRegion.size(); ++s) {
+    const std::uint32_t r = m_stepRegion[s];
+    runningError[r] = std::max(runningError[r], m_stepError[s]);
+    out.m_regions[r].m_errorAfterSteps[m_localStep[s] + 1] = runningError[r];
+  }
+}
+
+// Each region's full index buffer in slot order, its corners that read a neighbour's
+// border table (and the neighbours' reader lists), its vertex range and counts after each
+// step, and its border vertices, in the new numbering.
+void ProgressiveMeshAssembler::fillIndexBuffers(ProgressiveMesh& out, const Layout& layout) const {
+  const std::uint32_t regionCount = m_partition.regionCount;
+  const std::size_t vertexCount = m_mesh.vertexCount();
+  std::uint32_t vertexCursor = 0;
+  for (std::uint32_t r = 0; r < regionCount; ++r) {
+    RegionSequence& seq = out.m_regions[r];
+    const std::size_t stepCount = m_regionStepCount[r];
+    const std::vector<std::uint32_t>& tris = layout.trianglesOf[r];
     // Corners in the input's triangle order: the reads run in order and the writes scatter,
     // which costs less than the other way round.
     seq.m_fullIndices.resize(3 * tris.size());
     for (std::uint32_t t : tris) {
-      const std::uint32_t slot = slotOf[t];
+      const std::uint32_t slot = layout.slotOf[t];
       for (std::uint32_t c = 0; c < 3; ++c) {
         const std::uint32_t original = m_originalCorners[3 * t + c];
-        seq.m_fullIndices[slot + c] = newIndex[original];
+        seq.m_fullIndices[slot + c] = layout.newIndex[original];
         const std::uint32_t cornerRegion = m_partition.regionOf(original);
         if (cornerRegion == r) continue;
         seq.m_foreignCorners.push_back({slot + c, cornerRegion, m_entryOf[original]});
@@ -223,52 +283,40 @@ ProgressiveMesh ProgressiveMeshAssembler::finish() {
     }
     std::sort(seq.m_foreignCorners.begin(), seq.m_foreignCorners.end(),
               [](const ForeignCorner& a, const ForeignCorner& b) { return a.slot < b.slot; });
-    // Counts after m steps.
-    seq.m_trianglesAfterSteps.assign(stepCount + 1, 0);
-    seq.m_verticesAfterSteps.assign(stepCount + 1, 0);
-    seq.m_errorAfterSteps.assign(stepCount + 1, 0.0f);
-    std::vector<std::uint32_t> vanishing(stepCount + 1, 0), removing(stepCount + 1, 0);
-    for (std::uint32_t t : tris) ++vanishing[std::min<std::size_t>(m_vanishStep[t], stepCount)];
+    std::vector<std::uint32_t> removing(stepCount + 1, 0);
     std::uint32_t regionVertices = 0;
-    for (std::uint32_t i = vertexCursor; i < vertexCount && out.m_vertexRegion[i] == r; ++i) {
+    for (std::size_t i = vertexCursor; i < vertexCount && out.m_vertexRegion[i] == r; ++i) {
       ++regionVertices;
-      ++removing[std::min<std::size_t>(removalKey(order[i]), stepCount)];
+      ++removing[std::min<std::size_t>(removalKey(layout.order[i]), stepCount)];
     }
     seq.m_vertexBegin = vertexCursor;
     seq.m_vertexEnd = vertexCursor + regionVertices;
     vertexCursor += regionVertices;
-    std::uint32_t triAlive = static_cast<std::uint32_t>(tris.size()), vertAlive = regionVertices;
+    seq.m_verticesAfterSteps.resize(stepCount + 1);
+    std::uint32_t alive = regionVertices;
     for (std::size_t m = 0; m <= stepCount; ++m) {
-      seq.m_trianglesAfterSteps[m] = triAlive;
-      seq.m_verticesAfterSteps[m] = vertAlive;
-      if (m < stepCount) {
-        triAlive -= vanishing[m];
-        vertAlive -= removing[m];
-      }
+      seq.m_verticesAfterSteps[m] = alive;
+      if (m < stepCount) alive -= removing[m];
     }
     seq.m_borderVertices.reserve(m_borderVertices[r].size());
-    for (std::uint32_t v : m_borderVertices[r]) seq.m_borderVertices.push_back(newIndex[v]);
+    for (std::uint32_t v : m_borderVertices[r]) seq.m_borderVertices.push_back(layout.newIndex[v]);
   }
-  // Step errors per region, made monotone; corner and border changes in new numbering.
-  std::vector<float> runningError(regionCount, 0.0f);
-  for (std::size_t s = 0; s < m_stepRegion.size(); ++s) {
-    const std::uint32_t r = m_stepRegion[s];
-    runningError[r] = std::max(runningError[r], m_stepError[s]);
-    out.m_regions[r].m_errorAfterSteps[m_localStep[s] + 1] = runningError[r];
-  }
-  for (std::uint32_t r = 0; r < regionCount; ++r) {
+}
+
+// The recorded corner and border-table changes, in the new numbering and slots.
+void ProgressiveMeshAssembler::translateChanges(ProgressiveMesh& out, const Layout& layout) {
+  for (std::uint32_t r = 0; r < m_partition.regionCount; ++r) {
     RegionSequence& seq = out.m_regions[r];
     seq.m_cornerChanges.reserve(m_recorded[r].size());
     for (const RecordedChange& c : m_recorded[r])
-      seq.m_cornerChanges.push_back({slotOf[c.triangle] + c.corner, newIndex[c.before], newIndex[c.after]});
+      seq.m_cornerChanges.push_back(
+          {layout.slotOf[c.triangle] + c.corner, layout.newIndex[c.before], layout.newIndex[c.after]});
     seq.m_cornerChangeBegin = std::move(m_recordedBegin[r]);
     seq.m_borderChanges.reserve(m_borderRecorded[r].size());
     for (const RecordedChange& c : m_borderRecorded[r])
-      seq.m_borderChanges.push_back({c.triangle, newIndex[c.before], newIndex[c.after]});
+      seq.m_borderChanges.push_back({c.triangle, layout.newIndex[c.before], layout.newIndex[c.after]});
     seq.m_borderChangeBegin = std::move(m_borderRecordedBegin[r]);
-    out.m_vertices.indices.insert(out.m_vertices.indices.end(), seq.m_fullIndices.begin(), seq.m_fullIndices.end());
   }
-  return out;
 }
 
 }  // namespace polder::mesh

@@ -40,6 +40,19 @@ class ProgressiveMeshAssembler {
                   std::span<const std::uint32_t> onto);
   bool hasDegenerated(std::uint32_t t) const;  // its current corners repeat a vertex
 
+  // finish()'s orders, shared by its halves.
+  struct Layout {
+    std::vector<std::uint32_t> order;     // new vertex index -> original
+    std::vector<std::uint32_t> newIndex;  // original vertex -> new index
+    std::vector<std::vector<std::uint32_t>> trianglesOf;  // per region, in the input's order
+    std::vector<std::uint32_t> slotOf;    // triangle -> its first corner's slot in its region
+  };
+  std::uint32_t removalKey(std::uint32_t v) const;
+  void layOutVertices(ProgressiveMesh& out, Layout& layout) const;
+  void layOutTriangles(ProgressiveMesh& out, Layout& layout) const;
+  void fillIndexBuffers(ProgressiveMesh& out, const Layout& layout) const;
+  void translateChanges(ProgressiveMesh& out, const Layout& layout);
+
   const TriangleMesh& m_mesh;
   const RegionPartition& m_partition;
   std::vector<std::uint32_t> m_removalStep;      // global step removing each vertex
