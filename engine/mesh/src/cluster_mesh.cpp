@@ -13,11 +13,6 @@ namespace polder::mesh::cluster {
 
 namespace {
 
-// The first (half 0) or second (half 1) half of the range [0, count).
-std::pair<std::uint32_t, std::uint32_t> halfOf(std::uint32_t count, int half) {
-  return half == 0 ? std::pair{0u, count / 2} : std::pair{count / 2, count};
-}
-
 // Planes through boundary edges hold the outline: this times the edge length squared (the
 // collapse builder's boundaryWeight).
 constexpr double kBoundaryWeight = 4.0;

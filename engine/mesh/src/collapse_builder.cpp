@@ -10,6 +10,7 @@
 #include "builder_setup.hpp"
 #include "indexed_min_heap.hpp"
 #include "locality_order.hpp"
+#include "paired_work.hpp"
 #include "quadric.hpp"
 #include "step_listener.hpp"
 #include "triangle_fans.hpp"
@@ -78,8 +79,10 @@ class CollapseBuilder {
       : m_mesh(mesh), m_partition(partition), m_options(options), m_listener(listener) {}
 
   SimplificationSteps run() {
+    if (m_listener) m_listener->builderOnTwoCores(true);
     setUp();
-    for (std::uint32_t v = 0; v < m_vertexCount; ++v) updateCandidate(v, /*validate=*/false);
+    queueFirstCandidates();
+    if (m_listener) m_listener->builderOnTwoCores(false);
     const std::size_t reportEvery = std::max<std::size_t>(1, m_vertexCount / 64);
     SimplificationSteps steps;
     steps.representative.reserve(m_vertexCount);
@@ -120,42 +123,70 @@ class CollapseBuilder {
   }
 
  private:
+  // The builder's state, by halves on two threads where the work splits by vertex or by
+  // triangle: each vertex's quadric and attribute moments sum its fan's triangles in
+  // triangle order, as adding each triangle to its corners one after the other would.
   void setUp() {
     m_vertexCount = static_cast<std::uint32_t>(m_mesh.vertexCount());
     NormalizedPositions normalized = normalizePositions(m_mesh.positions);
     m_diagonal = normalized.diagonal;
     const std::vector<glm::dvec3>& position = normalized.positions;
 
-    // Live triangles (degenerate input ones are skipped) and fans.
+    // Live triangles (degenerate input ones are skipped), fans and planes.
     m_corner = liveTriangleCorners(m_mesh);
-    m_fan.build(m_vertexCount, m_corner);
     const auto triangleCount = static_cast<std::uint32_t>(m_corner.size() / 3);
     m_liveTriangles = triangleCount;
-
+    m_fan.clearAll(m_vertexCount);
+    std::vector<WeightedPlane> plane(triangleCount);
+    setUpAttributes();
+    std::vector<double> thirdOfArea(m_dims > 0 ? triangleCount : 0);
     double squaredEdgeSum = 0.0;  // over every triangle's three edges (corner k to the next)
-    for (std::uint32_t k = 0; k < m_corner.size(); ++k) {
-      const glm::dvec3 edge = position[m_corner[k]] - position[m_corner[k - k % 3 + (k + 1) % 3]];
-      squaredEdgeSum += glm::dot(edge, edge);
-    }
+    m_pair.run([&](int half) {
+      const auto [vertexBegin, vertexEnd] = halfOf(m_vertexCount, half);
+      m_fan.fill(m_corner, vertexBegin, vertexEnd);
+      const auto [begin, end] = halfOf(triangleCount, half);
+      for (std::uint32_t t = begin; t < end; ++t) {
+        plane[t] = trianglePlane(position, &m_corner[3 * t]);
+        if (m_dims > 0) thirdOfArea[t] = glm::length(triangleCross(position, &m_corner[3 * t])) / 6.0;
+      }
+      if (half == 1) return;
+      for (std::uint32_t k = 0; k < m_corner.size(); ++k) {  // one sum, in one order
+        const glm::dvec3 edge = position[m_corner[k]] - position[m_corner[k - k % 3 + (k + 1) % 3]];
+        squaredEdgeSum += glm::dot(edge, edge);
+      }
+    });
     m_tieBreakScale = m_corner.empty() ? 0.0 : kShorterEdgeFirst * squaredEdgeSum / double(m_corner.size());
 
-    setUpAttributes();
-    std::vector<Quadric> quadric(m_vertexCount);
-    for (std::uint32_t t = 0; t < triangleCount; ++t) addTriangle(position, t, quadric);
-    setUpAttributeMoments();
-    m_vertex.assign(m_vertexCount, VertexState{});
-    for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
-      m_vertex[v].position = position[v];
-      m_vertex[v].quadric = quadric[v];
-      m_vertex[v].areaScale = areaScaleOf(quadric[v]);
-    }
+    m_vertex.resize(m_vertexCount);
+    m_pair.run([&](int half) {
+      const auto [begin, end] = halfOf(m_vertexCount, half);
+      for (std::uint32_t v = begin; v < end; ++v) {
+        Quadric quadric;
+        for (std::uint32_t t : m_fan[v]) {
+          if (plane[t].weight <= 0.0) continue;  // a flat triangle adds nothing
+          Quadric q;
+          q.addPlane(plane[t].normal, plane[t].offset, plane[t].weight);
+          quadric += q;
+        }
+        if (m_dims > 0) {
+          double area = 0.0;
+          for (std::uint32_t t : m_fan[v]) area += thirdOfArea[t];
+          setUpAttributeMoments(v, area);
+        }
+        VertexState& state = m_vertex[v];
+        state.position = position[v];
+        state.quadric = quadric;
+        state.areaScale = areaScaleOf(quadric);
+      }
+    });
     m_slot.assign(m_vertexCount, 0);
     m_twin = positionTwins(m_mesh.positions);
-    for (std::uint32_t v = 0; v < m_vertexCount; ++v) classify(v);
+    classifyAll();
     pairSeamTwins();
     m_queue = IndexedMinHeap(m_vertexCount);
   }
 
+  // Per vertex, its attributes times their weights (m_dims values), for the moments.
   void setUpAttributes() {
     m_dims = 0;
     std::vector<double> weights;
@@ -178,41 +209,68 @@ class CollapseBuilder {
       for (int k = 0; uvAt >= 0 && k < 2; ++k) a[uvAt + k] = m_mesh.uvs[v][k];
       for (int k = 0; k < m_dims; ++k) a[k] *= weights[k];
     }
-    m_moment0.assign(m_vertexCount, 0.0);  // filled with areas by addTriangle
-  }
-
-  // Moments of each cluster's attributes, weighted by a third of the incident areas.
-  void setUpAttributeMoments() {
-    if (m_dims == 0) return;
+    m_moment0.assign(m_vertexCount, 0.0);
     m_moment1.assign(std::size_t(m_vertexCount) * m_dims, 0.0);
     m_moment2.assign(m_vertexCount, 0.0);
+  }
+
+  // v's attribute moments, weighted by a third of its triangles' areas (`area` in all).
+  void setUpAttributeMoments(std::uint32_t v, double area) {
+    m_moment0[v] = area;
+    const double* a = &m_attribute[std::size_t(v) * m_dims];
+    double squared = 0.0;
+    for (int k = 0; k < m_dims; ++k) {
+      m_moment1[std::size_t(v) * m_dims + k] = area * a[k];
+      squared += a[k] * a[k];
+    }
+    m_moment2[v] = area * squared;
+  }
+
+  // Every vertex's kind and colour border, by halves on two threads (classifying only reads
+  // the mesh), then the boundary planes of the border vertices, in vertex order.
+  void classifyAll() {
+    m_pair.run([&](int half) {
+      const auto [begin, end] = halfOf(m_vertexCount, half);
+      FanScratch scratch;
+      for (std::uint32_t v = begin; v < end; ++v) classify(v, scratch);
+    });
     for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
-      const double* a = &m_attribute[std::size_t(v) * m_dims];
-      double squared = 0.0;
-      for (int k = 0; k < m_dims; ++k) {
-        m_moment1[std::size_t(v) * m_dims + k] = m_moment0[v] * a[k];
-        squared += a[k] * a[k];
-      }
-      m_moment2[v] = m_moment0[v] * squared;
+      if (m_vertex[v].kind != VertexKind::Border) continue;
+      gatherNeighbours(v, m_neighbours);
+      addBoundaryPlanes(v);
     }
   }
 
-  // The triangle's plane into its corners' quadrics, its area into their attribute weights.
-  void addTriangle(const std::vector<glm::dvec3>& position, std::uint32_t t, std::vector<Quadric>& quadric) {
-    const std::uint32_t* corner = &m_corner[3 * t];
-    addTriangleQuadric(position, corner, quadric);
-    if (m_dims == 0) return;
-    const double thirdOfArea = glm::length(triangleCross(position, corner)) / 6.0;
-    for (int k = 0; k < 3; ++k) m_moment0[corner[k]] += thirdOfArea;
+  // Every vertex's cheapest collapse, queued in vertex order: an interior vertex's options
+  // are costed by halves on two threads (reading only), the others' one by one.
+  void queueFirstCandidates() {
+    std::vector<Option> cheapest(m_vertexCount, Option{0.0f, kNone});
+    m_pair.run([&](int half) {
+      const auto [begin, end] = halfOf(m_vertexCount, half);
+      for (std::uint32_t v = begin; v < end; ++v)
+        if (m_vertex[v].kind == VertexKind::Interior) cheapest[v] = cheapestInteriorOption(v);
+    });
+    for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
+      if (m_vertex[v].kind != VertexKind::Interior) {
+        updateCandidate(v, /*validate=*/false);
+        continue;
+      }
+      m_vertex[v].target = cheapest[v].vertex;
+      if (cheapest[v].vertex != kNone) m_queue.set(v, cheapest[v].cost);
+    }
   }
 
-  // Starts loading the triangles of v's fan, then their corners' states, all at once: the
-  // checks and the collapse visit each of them, one after another.
-  void prefetchRing(std::uint32_t v) const {
-    const std::span<const std::uint32_t> fan = m_fan[v];
-    for (std::uint32_t t : fan) __builtin_prefetch(&m_corner[3 * t]);
-    for (std::uint32_t t : fan)
-      for (int k = 0; k < 3; ++k) __builtin_prefetch(&m_vertex[m_corner[3 * t + k]]);
+  // The first cheapest of an interior vertex's collapses, {0, kNone} if it may join none.
+  // A closed fan meets each neighbour once as the corner after v: no marks needed.
+  Option cheapestInteriorOption(std::uint32_t v) const {
+    Option best{0.0f, kNone};
+    for (std::uint32_t t : m_fan[v]) {
+      const std::uint32_t x = cornerAfter(&m_corner[3 * t], v);
+      if (!mayJoin(v, x)) continue;
+      const float cost = collapseCost(v, x);
+      if (best.vertex == kNone || cost < best.cost) best = {cost, x};
+    }
+    return best;
   }
 
   // Gathers v's neighbours with the number of triangles on each edge.
@@ -244,12 +302,35 @@ class CollapseBuilder {
     return ++m_stamp;
   }
 
-  void classify(std::uint32_t v) {
-    gatherNeighbours(v, m_neighbours);
+  // What classify needs of one fan; one per thread.
+  struct FanScratch {
+    std::vector<Neighbour> neighbours;       // in the order the fan first meets them
+    std::vector<std::uint32_t> chainFrom;    // neighbour slot -> fan entry it starts
+    std::vector<std::uint8_t> chainLedTo;
+    // The slot of neighbour x (a fan holds a handful: a scan beats marks shared by threads).
+    std::uint32_t slotOf(std::uint32_t x) const {
+      std::uint32_t slot = 0;
+      while (neighbours[slot].vertex != x) ++slot;
+      return slot;
+    }
+  };
+
+  // v's kind and colour border; reads the mesh only, so threads may classify at once.
+  void classify(std::uint32_t v, FanScratch& scratch) {
+    std::vector<Neighbour>& neighbours = scratch.neighbours;
+    neighbours.clear();
+    for (std::uint32_t t : m_fan[v])
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t x = m_corner[3 * t + k];
+        if (x == v) continue;
+        auto seen = std::find_if(neighbours.begin(), neighbours.end(), [x](const Neighbour& n) { return n.vertex == x; });
+        if (seen == neighbours.end()) neighbours.push_back({x, 1});
+        else ++seen->sharedTriangles;
+      }
     const std::size_t triangles = m_fan[v].size();
     std::size_t borderEdges = 0;
     bool nonManifold = triangles == 0;
-    for (const Neighbour& n : m_neighbours) {
+    for (const Neighbour& n : neighbours) {
       if (n.sharedTriangles > 2) nonManifold = true;
       if (n.sharedTriangles == 1) ++borderEdges;
     }
@@ -258,17 +339,25 @@ class CollapseBuilder {
     // triangles. Anything else (bow-ties, pinches, fins, flipped triangles) stays put.
     VertexKind& kind = m_vertex[v].kind;
     if (nonManifold) kind = VertexKind::Locked;
-    else if (borderEdges == 0 && m_neighbours.size() == triangles && fanIsOneChain(v, /*closed=*/true))
+    else if (borderEdges == 0 && neighbours.size() == triangles && fanIsOneChain(v, /*closed=*/true, scratch))
       kind = VertexKind::Interior;
-    else if (borderEdges == 2 && m_neighbours.size() == triangles + 1 && fanIsOneChain(v, /*closed=*/false))
+    else if (borderEdges == 2 && neighbours.size() == triangles + 1 && fanIsOneChain(v, /*closed=*/false, scratch))
       kind = VertexKind::Border;
     else kind = VertexKind::Locked;
-    if (kind == VertexKind::Border) addBoundaryPlanes(v);
     // A vertex beside a colour discontinuity holds the colour border: it may only slide
     // along it, onto another vertex of its own colour that is also beside the border.
     if (m_options.colourWeight > 0.0 && m_mesh.hasColours())
-      for (const Neighbour& n : m_neighbours)
+      for (const Neighbour& n : neighbours)
         if (coloursDiffer(v, n.vertex)) m_vertex[v].colourBorder = true;
+  }
+
+  // Starts loading the triangles of v's fan, then their corners' states, all at once: the
+  // checks and the collapse visit each of them, one after another.
+  void prefetchRing(std::uint32_t v) const {
+    const std::span<const std::uint32_t> fan = m_fan[v];
+    for (std::uint32_t t : fan) __builtin_prefetch(&m_corner[3 * t]);
+    for (std::uint32_t t : fan)
+      for (int k = 0; k < 3; ++k) __builtin_prefetch(&m_vertex[m_corner[3 * t + k]]);
   }
 
   // A vertex split across a texture seam has a twin at its position on the seam's other
@@ -328,25 +417,27 @@ class CollapseBuilder {
   // Whether v's fan is one chain of consistently wound triangles, each leading through its
   // corner after v to the triangle whose corner before v that is: a cycle through the whole
   // fan (closed), or a path through it from the one triangle nothing leads to (open). Uses
-  // the slots of the neighbours just gathered.
-  bool fanIsOneChain(std::uint32_t v, bool closed) {
+  // the neighbours just gathered into `scratch`.
+  bool fanIsOneChain(std::uint32_t v, bool closed, FanScratch& scratch) const {
     const std::span<const std::uint32_t> fan = m_fan[v];
-    m_chainFrom.assign(m_neighbours.size(), kNone);  // neighbour slot -> fan entry it starts
+    std::vector<std::uint32_t>& chainFrom = scratch.chainFrom;
+    chainFrom.assign(scratch.neighbours.size(), kNone);  // neighbour slot -> fan entry it starts
     for (std::uint32_t i = 0; i < fan.size(); ++i) {
-      std::uint32_t& from = m_chainFrom[m_slot[cornerBefore(&m_corner[3 * fan[i]], v)]];
+      std::uint32_t& from = chainFrom[scratch.slotOf(cornerBefore(&m_corner[3 * fan[i]], v))];
       if (from != kNone) return false;  // two triangles start at one neighbour
       from = i;
     }
     std::uint32_t start = 0;
     if (!closed) {  // the triangle whose corner before v no triangle ends at
-      m_chainLedTo.assign(m_neighbours.size(), 0);
-      for (std::uint32_t t : fan) m_chainLedTo[m_slot[cornerAfter(&m_corner[3 * t], v)]] = 1;
-      while (start < fan.size() && m_chainLedTo[m_slot[cornerBefore(&m_corner[3 * fan[start]], v)]]) ++start;
+      std::vector<std::uint8_t>& ledTo = scratch.chainLedTo;
+      ledTo.assign(scratch.neighbours.size(), 0);
+      for (std::uint32_t t : fan) ledTo[scratch.slotOf(cornerAfter(&m_corner[3 * t], v))] = 1;
+      while (start < fan.size() && ledTo[scratch.slotOf(cornerBefore(&m_corner[3 * fan[start]], v))]) ++start;
       if (start == fan.size()) return false;
     }
     std::uint32_t at = start;
     for (std::size_t visited = 1; visited <= fan.size(); ++visited) {
-      const std::uint32_t next = m_chainFrom[m_slot[cornerAfter(&m_corner[3 * fan[at]], v)]];
+      const std::uint32_t next = chainFrom[scratch.slotOf(cornerAfter(&m_corner[3 * fan[at]], v))];
       if (next == kNone || next == start) return visited == fan.size() && (next == start) == closed;
       at = next;
     }
@@ -567,6 +658,7 @@ class CollapseBuilder {
   const RegionPartition& m_partition;
   const CollapseOptions& m_options;
   StepListener* m_listener;  // may be null
+  PairedWork m_pair;         // the helper thread, for the set-up
   std::uint32_t m_vertexCount = 0;
   double m_diagonal = 1.0;
   double m_tieBreakScale = 0.0;  // kShorterEdgeFirst x mean squared edge length
@@ -578,8 +670,6 @@ class CollapseBuilder {
   std::vector<double> m_moment0, m_moment1, m_moment2;
   std::vector<VertexState> m_vertex;
   std::vector<std::uint32_t> m_slot;  // a marked neighbour's place in the gathered list
-  std::vector<std::uint32_t> m_chainFrom;   // fanIsOneChain scratch
-  std::vector<std::uint8_t> m_chainLedTo;
   std::uint32_t m_stamp = 0;
   IndexedMinHeap m_queue{0};  // vertices by the cost of their queued collapse
   std::vector<Neighbour> m_neighbours;

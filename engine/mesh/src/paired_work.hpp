@@ -6,11 +6,13 @@
 #pragma once
 
 #include <condition_variable>
+#include <cstdint>
 #include <exception>
 #include <functional>
 #include <mutex>
 #include <system_error>
 #include <thread>
+#include <utility>
 
 namespace polder::mesh {
 
@@ -92,5 +94,10 @@ class PairedWork {
   bool m_closing = false;
   std::exception_ptr m_helperFailed;
 };
+
+// The first (half 0) or second (half 1) half of the range [0, count).
+inline std::pair<std::uint32_t, std::uint32_t> halfOf(std::uint32_t count, int half) {
+  return half == 0 ? std::pair{0u, count / 2} : std::pair{count / 2, count};
+}
 
 }  // namespace polder::mesh

@@ -1,6 +1,6 @@
 // Triangle geometry the builders share, on their normalized positions and three corners a
-// triangle (builder_setup.hpp): a triangle's cross product, its plane as a quadric on its
-// corners, and the plane along a boundary edge that holds the outline.
+// triangle (builder_setup.hpp): a triangle's cross product, its area-weighted plane, and
+// the plane along a boundary edge that holds the outline.
 #pragma once
 
 #include <cstdint>
@@ -32,18 +32,6 @@ inline WeightedPlane trianglePlane(const std::vector<glm::dvec3>& position, cons
   if (length <= 0.0) return {};
   const glm::dvec3 n = cross / length;
   return {n, -glm::dot(n, position[corner[0]]), 0.5 * length};
-}
-
-// Adds the triangle's plane, weighted by its area, to its corners' quadrics; returns its
-// unit normal (zero for a flat triangle, which adds nothing).
-inline glm::dvec3 addTriangleQuadric(const std::vector<glm::dvec3>& position, const std::uint32_t* corner,
-                                     std::vector<Quadric>& quadric) {
-  const WeightedPlane plane = trianglePlane(position, corner);
-  if (plane.weight <= 0.0) return plane.normal;
-  Quadric q;
-  q.addPlane(plane.normal, plane.offset, plane.weight);
-  for (int k = 0; k < 3; ++k) quadric[corner[k]] += q;
-  return plane.normal;
 }
 
 // Adds the plane through the boundary edge (a, b), perpendicular to its triangle's normal
