@@ -615,18 +615,18 @@ int main(int argc, char** argv) {
                 mo * 1e3, moRate, ok ? "ok" : "MISS",
                 sc.stopAt ? (" (target < " + std::to_string(int(kBunny500Seconds * 1000)) + " ms)").c_str() : "");
     report[reportKey].push_back({{"model", model.name},
-                               {"builder", builderKey(sc.builder)},
-                               {"stop_at_triangles", sc.stopAt},
-                               {"input_triangles", model.mesh.triangleCount()},
-                               {"base_triangles", base},
-                               {"steps", stepCount},
-                               {"steps_ms", steps * 1e3},
-                               {"total_ms", total * 1e3},
-                               {"m_triangles_per_s", rate},
-                               {"meshopt_ms", mo * 1e3},
-                               {"meshopt_triangles", meshoptTriangles},
-                               {"meshopt_m_triangles_per_s", moRate},
-                               {"ok", ok}});
+                                  {"builder", builderKey(sc.builder)},
+                                  {"stop_at_triangles", sc.stopAt},
+                                  {"input_triangles", model.mesh.triangleCount()},
+                                  {"base_triangles", base},
+                                  {"steps", stepCount},
+                                  {"steps_ms", steps * 1e3},
+                                  {"total_ms", total * 1e3},
+                                  {"m_triangles_per_s", rate},
+                                  {"meshopt_ms", mo * 1e3},
+                                  {"meshopt_triangles", meshoptTriangles},
+                                  {"meshopt_m_triangles_per_s", moRate},
+                                  {"ok", ok}});
     return ok;
   };
 

@@ -68,14 +68,7 @@ class ClusterMeshSetup {
     const auto triangleCount = static_cast<std::uint32_t>(m_mesh.corner.size() / 3);
     m_mesh.liveTriangles = triangleCount;
     m_mesh.triangleAlive.assign(triangleCount, 1);
-    m_mesh.fan.clearAll(m_mesh.vertexCount);
-    std::vector<WeightedPlane> plane(triangleCount);
-    m_pair.run([&](int half) {
-      const auto [vertexBegin, vertexEnd] = halfOf(m_mesh.vertexCount, half);
-      m_mesh.fan.fill(m_mesh.corner, vertexBegin, vertexEnd);
-      const auto [begin, end] = halfOf(triangleCount, half);
-      for (std::uint32_t t = begin; t < end; ++t) plane[t] = trianglePlane(m_mesh.position, &m_mesh.corner[3 * t]);
-    });
+    const std::vector<WeightedPlane> plane = fillFansAndPlanes(m_pair, m_mesh.position, m_mesh.corner, m_mesh.fan);
     m_mesh.quadric.resize(m_mesh.vertexCount);
     m_pair.run([&](int half) {
       const auto [begin, end] = halfOf(m_mesh.vertexCount, half);

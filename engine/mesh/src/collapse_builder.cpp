@@ -134,33 +134,16 @@ class CollapseBuilder {
 
     // Live triangles (degenerate input ones are skipped), fans and planes.
     m_corner = liveTriangleCorners(m_mesh);
-    const auto triangleCount = static_cast<std::uint32_t>(m_corner.size() / 3);
-    m_liveTriangles = triangleCount;
-    m_fan.clearAll(m_vertexCount);
-    std::vector<WeightedPlane> plane(triangleCount);
+    m_liveTriangles = static_cast<std::uint32_t>(m_corner.size() / 3);
+    const std::vector<WeightedPlane> plane = fillFansAndPlanes(m_pair, position, m_corner, m_fan);
     setUpAttributes();
-    std::vector<double> thirdOfArea(m_dims > 0 ? triangleCount : 0);
-    double squaredEdgeSum = 0.0;  // over every triangle's three edges (corner k to the next)
-    m_pair.run([&](int half) {
-      const auto [vertexBegin, vertexEnd] = halfOf(m_vertexCount, half);
-      m_fan.fill(m_corner, vertexBegin, vertexEnd);
-      const auto [begin, end] = halfOf(triangleCount, half);
-      for (std::uint32_t t = begin; t < end; ++t) {
-        plane[t] = trianglePlane(position, &m_corner[3 * t]);
-        if (m_dims > 0) thirdOfArea[t] = glm::length(triangleCross(position, &m_corner[3 * t])) / 6.0;
-      }
-      if (half == 1) return;
-      for (std::uint32_t k = 0; k < m_corner.size(); ++k) {  // one sum, in one order
-        const glm::dvec3 edge = position[m_corner[k]] - position[m_corner[k - k % 3 + (k + 1) % 3]];
-        squaredEdgeSum += glm::dot(edge, edge);
-      }
-    });
-    m_tieBreakScale = m_corner.empty() ? 0.0 : kShorterEdgeFirst * squaredEdgeSum / double(m_corner.size());
-
     m_vertex.resize(m_vertexCount);
+    double squaredEdgeSum = 0.0;  // over every triangle's three edges (corner k to the next)
     m_pair.run([&](int half) {
       const auto [begin, end] = halfOf(m_vertexCount, half);
       for (std::uint32_t v = begin; v < end; ++v) {
+        // Each plane as a quadric of its own, then added: the roundings of adding each
+        // triangle's quadric to its corners.
         Quadric quadric;
         for (std::uint32_t t : m_fan[v]) {
           if (plane[t].weight <= 0.0) continue;  // a flat triangle adds nothing
@@ -170,7 +153,7 @@ class CollapseBuilder {
         }
         if (m_dims > 0) {
           double area = 0.0;
-          for (std::uint32_t t : m_fan[v]) area += thirdOfArea[t];
+          for (std::uint32_t t : m_fan[v]) area += plane[t].weight / 3.0;
           setUpAttributeMoments(v, area);
         }
         VertexState& state = m_vertex[v];
@@ -178,8 +161,13 @@ class CollapseBuilder {
         state.quadric = quadric;
         state.areaScale = areaScaleOf(quadric);
       }
+      if (half == 1) return;
+      for (std::uint32_t k = 0; k < m_corner.size(); ++k) {  // one sum, in one order
+        const glm::dvec3 edge = position[m_corner[k]] - position[m_corner[k - k % 3 + (k + 1) % 3]];
+        squaredEdgeSum += glm::dot(edge, edge);
+      }
     });
-    m_slot.assign(m_vertexCount, 0);
+    m_tieBreakScale = m_corner.empty() ? 0.0 : kShorterEdgeFirst * squaredEdgeSum / double(m_corner.size());
     m_twin = positionTwins(m_mesh.positions);
     classifyAll();
     pairSeamTwins();
@@ -247,8 +235,13 @@ class CollapseBuilder {
     std::vector<Option> cheapest(m_vertexCount, Option{0.0f, kNone});
     m_pair.run([&](int half) {
       const auto [begin, end] = halfOf(m_vertexCount, half);
-      for (std::uint32_t v = begin; v < end; ++v)
-        if (m_vertex[v].kind == VertexKind::Interior) cheapest[v] = cheapestInteriorOption(v);
+      std::vector<Option> options;
+      for (std::uint32_t v = begin; v < end; ++v) {
+        if (m_vertex[v].kind != VertexKind::Interior) continue;
+        options.clear();
+        addInteriorOptions(v, options);
+        if (!options.empty()) cheapest[v] = *std::min_element(options.begin(), options.end(), cheaper);
+      }
     });
     for (std::uint32_t v = 0; v < m_vertexCount; ++v) {
       if (m_vertex[v].kind != VertexKind::Interior) {
@@ -260,37 +253,30 @@ class CollapseBuilder {
     }
   }
 
-  // The first cheapest of an interior vertex's collapses, {0, kNone} if it may join none.
-  // A closed fan meets each neighbour once as the corner after v: no marks needed.
-  Option cheapestInteriorOption(std::uint32_t v) const {
-    Option best{0.0f, kNone};
+  // An interior vertex's collapses onto its neighbours, appended to `options`. A closed fan
+  // meets each neighbour once as the corner after v: no marks needed.
+  void addInteriorOptions(std::uint32_t v, std::vector<Option>& options) const {
     for (std::uint32_t t : m_fan[v]) {
       const std::uint32_t x = cornerAfter(&m_corner[3 * t], v);
-      if (!mayJoin(v, x)) continue;
-      const float cost = collapseCost(v, x);
-      if (best.vertex == kNone || cost < best.cost) best = {cost, x};
+      if (mayJoin(v, x)) options.push_back({collapseCost(v, x), x});
     }
-    return best;
   }
 
-  // Gathers v's neighbours with the number of triangles on each edge.
-  void gatherNeighbours(std::uint32_t v, std::vector<Neighbour>& out) {
+  static bool cheaper(const Option& x, const Option& y) { return x.cost < y.cost; }
+
+  // Gathers v's neighbours, in the order its fan first meets them, with the number of
+  // triangles on each edge. A fan holds a handful: a scan needs no marks, so threads may
+  // gather at once.
+  void gatherNeighbours(std::uint32_t v, std::vector<Neighbour>& out) const {
     out.clear();
-    const std::uint32_t seen = nextStamp();
-    for (std::uint32_t t : m_fan[v]) {
+    for (std::uint32_t t : m_fan[v])
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t x = m_corner[3 * t + k];
         if (x == v) continue;
-        VertexState& neighbour = m_vertex[x];
-        if (neighbour.mark == seen) {
-          ++out[m_slot[x]].sharedTriangles;
-        } else {
-          neighbour.mark = seen;
-          m_slot[x] = static_cast<std::uint32_t>(out.size());
-          out.push_back({x, 1});
-        }
+        auto seen = std::find_if(out.begin(), out.end(), [x](const Neighbour& n) { return n.vertex == x; });
+        if (seen == out.end()) out.push_back({x, 1});
+        else ++seen->sharedTriangles;
       }
-    }
   }
 
   // A fresh mark value; marks are cleared when the counter would wrap.
@@ -304,10 +290,10 @@ class CollapseBuilder {
 
   // What classify needs of one fan; one per thread.
   struct FanScratch {
-    std::vector<Neighbour> neighbours;       // in the order the fan first meets them
+    std::vector<Neighbour> neighbours;       // gatherNeighbours'
     std::vector<std::uint32_t> chainFrom;    // neighbour slot -> fan entry it starts
     std::vector<std::uint8_t> chainLedTo;
-    // The slot of neighbour x (a fan holds a handful: a scan beats marks shared by threads).
+    // The place of neighbour x in `neighbours`.
     std::uint32_t slotOf(std::uint32_t x) const {
       std::uint32_t slot = 0;
       while (neighbours[slot].vertex != x) ++slot;
@@ -318,15 +304,7 @@ class CollapseBuilder {
   // v's kind and colour border; reads the mesh only, so threads may classify at once.
   void classify(std::uint32_t v, FanScratch& scratch) {
     std::vector<Neighbour>& neighbours = scratch.neighbours;
-    neighbours.clear();
-    for (std::uint32_t t : m_fan[v])
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t x = m_corner[3 * t + k];
-        if (x == v) continue;
-        auto seen = std::find_if(neighbours.begin(), neighbours.end(), [x](const Neighbour& n) { return n.vertex == x; });
-        if (seen == neighbours.end()) neighbours.push_back({x, 1});
-        else ++seen->sharedTriangles;
-      }
+    gatherNeighbours(v, neighbours);
     const std::size_t triangles = m_fan[v].size();
     std::size_t borderEdges = 0;
     bool nonManifold = triangles == 0;
@@ -519,11 +497,7 @@ class CollapseBuilder {
     if (!state.alive || state.kind == VertexKind::Locked) return;
     m_optionScratch.clear();
     if (state.kind == VertexKind::Interior) {
-      // A closed fan meets each neighbour once as the corner after v: no marks needed.
-      for (std::uint32_t t : m_fan[v]) {
-        const std::uint32_t x = cornerAfter(&m_corner[3 * t], v);
-        if (mayJoin(v, x)) m_optionScratch.push_back({collapseCost(v, x), x});
-      }
+      addInteriorOptions(v, m_optionScratch);
     } else {
       gatherNeighbours(v, m_neighbours);
       std::uint32_t boundaryNeighbour[2], boundaryCount = 0;
@@ -541,7 +515,6 @@ class CollapseBuilder {
         m_optionScratch.push_back({cost, u});
       }
     }
-    auto cheaper = [](const Option& x, const Option& y) { return x.cost < y.cost; };
     if (validate) std::sort(m_optionScratch.begin(), m_optionScratch.end(), cheaper);
     else if (!m_optionScratch.empty())
       std::iter_swap(m_optionScratch.begin(),
@@ -669,7 +642,6 @@ class CollapseBuilder {
   std::vector<double> m_attribute;  // per vertex, m_dims weighted values
   std::vector<double> m_moment0, m_moment1, m_moment2;
   std::vector<VertexState> m_vertex;
-  std::vector<std::uint32_t> m_slot;  // a marked neighbour's place in the gathered list
   std::uint32_t m_stamp = 0;
   IndexedMinHeap m_queue{0};  // vertices by the cost of their queued collapse
   std::vector<Neighbour> m_neighbours;

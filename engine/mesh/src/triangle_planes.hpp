@@ -1,6 +1,6 @@
 // Triangle geometry the builders share, on their normalized positions and three corners a
-// triangle (builder_setup.hpp): a triangle's cross product, its area-weighted plane, and
-// the plane along a boundary edge that holds the outline.
+// triangle (builder_setup.hpp): a triangle's cross product, its area-weighted plane (with
+// the fans, set up together), and the plane along a boundary edge that holds the outline.
 #pragma once
 
 #include <cstdint>
@@ -8,7 +8,9 @@
 
 #include <glm/glm.hpp>
 
+#include "paired_work.hpp"
 #include "quadric.hpp"
+#include "triangle_fans.hpp"
 
 namespace polder::mesh {
 
@@ -32,6 +34,23 @@ inline WeightedPlane trianglePlane(const std::vector<glm::dvec3>& position, cons
   if (length <= 0.0) return {};
   const glm::dvec3 n = cross / length;
   return {n, -glm::dot(n, position[corner[0]]), 0.5 * length};
+}
+
+// Every vertex's fan (its triangles in triangle order) and every triangle's plane, by
+// halves on the pair's two threads: fans by vertex, planes by triangle.
+inline std::vector<WeightedPlane> fillFansAndPlanes(PairedWork& pair, const std::vector<glm::dvec3>& position,
+                                                    const std::vector<std::uint32_t>& corner, TriangleFans& fan) {
+  const auto vertexCount = static_cast<std::uint32_t>(position.size());
+  const auto triangleCount = static_cast<std::uint32_t>(corner.size() / 3);
+  fan.clearAll(vertexCount);
+  std::vector<WeightedPlane> plane(triangleCount);
+  pair.run([&](int half) {
+    const auto [vertexBegin, vertexEnd] = halfOf(vertexCount, half);
+    fan.fill(corner, vertexBegin, vertexEnd);
+    const auto [begin, end] = halfOf(triangleCount, half);
+    for (std::uint32_t t = begin; t < end; ++t) plane[t] = trianglePlane(position, &corner[3 * t]);
+  });
+  return plane;
 }
 
 // Adds the plane through the boundary edge (a, b), perpendicular to its triangle's normal
