@@ -182,7 +182,7 @@ int runBench(BenchArguments arguments) {
     return reportError(makeError(ErrorKind::InvalidArgument, "--preset must be 'seed002'"));
 
   if (arguments.preset == "seed002") {
-    // Seed 002's experiment: 20 x 20 blocks of 33 x 33 samples at 40 m, flown about 1000 m
+    // Chuang 2001's experiment: 20 x 20 blocks of 33 x 33 samples at 40 m, flown about 1000 m
     // above the ground with a 40 degree field of view in an 800 x 800 window.
     arguments.dem.spacingM = 40.0;
     arguments.blockSamples = 33;

@@ -1,5 +1,5 @@
 // The LOD cache: per-block meshes under a byte budget, reused by the block-level test of
-// lod_reuse.hpp. Follows seed 002 (shared/seeds/002_d92600183c0e5cf1.txt), part B, "LOD
+// lod_reuse.hpp. Follows Chuang, "Level-of-Detail Modeling Technique for Virtual Reality (I)", 2001, part B, "LOD
 // caching".
 //
 // Storage. Blocks live in slots that never move (callers hold references to their meshes),

@@ -1,6 +1,6 @@
 // The LOD cache's block-level reuse test: summary and test (lod_reuse.hpp has the argument).
 //
-// Follows seed 002 (shared/seeds/002_d92600183c0e5cf1.txt), part B: the cached LOD of a block
+// Follows Chuang, "Level-of-Detail Modeling Technique for Virtual Reality (I)", 2001, part B: the cached LOD of a block
 // is reused while "its projected error with respect to the new viewpoint is within a
 // pre-specified error"; the test is "block-based, rather than vertex-based".
 #include <polder/cache/lod_reuse.hpp>

@@ -1,5 +1,5 @@
 // Dikes (dikes.hpp): zipper strips between facing interior sides, junction polygons walked
-// around the interiors and ear-clipped. Follows seed 002 part B (dikes between blocks,
+// around the interiors and ear-clipped. Follows Chuang 2001 part B (dikes between blocks,
 // re-triangulated per frame from the blocks' kept boundary vertices), generalised to
 // quadtree cuts.
 //

@@ -1,4 +1,4 @@
-// Speed of the region/allocator core: ASLOD's budget split (seeds/000_b38ee0937017652c.txt,
+// Speed of the region/allocator core: ASLOD's budget split (Schmalstieg and Fuhrmann 1999,
 // section 3) over 10,000 regions, target under 0.5 ms per allocation, and the projected area
 // of 10,000 boxes (Schmalstieg & Tobler, JGT 1999). A standalone Google Benchmark program
 // with its own main; it also counts heap allocations inside the timed loops (expected 0).

@@ -18,7 +18,7 @@
 //   3. Speed: build time of the whole sequence (steps + assemble), median of --runs runs,
 //      as M input triangles per second (target >= 1), plus meshopt_simplify to the same
 //      base count; bunny to 500 triangles (target < 0.1 s).
-//   4. Level moves (the seed's Table 2): base mesh -> full mesh -> base mesh round trips,
+//   4. Level moves (the paper's Table 2): base mesh -> full mesh -> base mesh round trips,
 //      median over --trips, with the level count and the triangles changed per level.
 //   5. Speed at terrain scale: the Mt Rainier DEM as one mesh (the scene files' Silvretta
 //      model), cropped to 261 x 261 samples (135,200 triangles) and 725 x 725 (1,048,352),
@@ -651,7 +651,7 @@ int main(int argc, char** argv) {
   // ---------------------------------------------------------------- 4. level moves
   if (section("moves")) {
     std::printf(
-        "\n4. Level moves (seed Table 2): base (level 0) -> full -> base, setLevel(0, levels) then setLevel(0, 0);\n"
+        "\n4. Level moves (the paper's Table 2): base (level 0) -> full -> base, setLevel(0, levels) then setLevel(0, 0);\n"
         "   median over %d round trips; changed = triangles (corners) whose vertex changes, per level\n",
         trips);
     const int width4 = 132;

@@ -2,7 +2,7 @@
 // still or slowly moving camera, rebuilds when the camera closes in or leaves a block behind,
 // the projected-error bound on every frame's meshes (checked by brute force written here,
 // independently of rtin.cpp and lod_cache_reuse.cpp), the byte budget and LRU order, the
-// count mode, and no heap allocation in steady state. Seed 002 part B (LOD caching) is what
+// count mode, and no heap allocation in steady state. Chuang 2001 part B (LOD caching) is what
 // these tests hold the cache to.
 #include <polder/cache/lod_cache.hpp>
 #include <polder/cache/lod_reuse.hpp>
@@ -902,7 +902,7 @@ TEST(LodCache, SteadyStateAllocatesNothing) {
 
 // Over a generated DEM (the sample terrain's generator), a loop flight at 20 m a frame with
 // every block drawn: the cache reuses most meshes, and draws at most 15 % more triangles than
-// rebuilding every block every frame would (seed 002 reports 2.2-8.7 % fewer; here receding
+// rebuilding every block every frame would (Chuang 2001 reports 2.2-8.7 % fewer; here receding
 // blocks count too, with no culling).
 TEST(LodCache, FlyoverReusesMostMeshesWithFewExtraTriangles) {
   terrain::GeneratorOptions generator;
@@ -912,7 +912,7 @@ TEST(LodCache, FlyoverReusesMostMeshesWithFewExtraTriangles) {
   const Terrain terrain = makeTerrain(terrain::generateTerrain(generator).value());
   float top = -std::numeric_limits<float>::infinity();
   for (const BlockLod& lod : terrain.lods) top = std::max(top, lod.maxHeight());
-  const double k = 800.0 / (2.0 * std::tan(std::numbers::pi / 9.0));  // the seed's 40 degrees, 800 px
+  const double k = 800.0 / (2.0 * std::tan(std::numbers::pi / 9.0));  // the paper's 40 degrees, 800 px
   const double extent = terrain.field.extentX();
   LodCache cache;
   terrain::RtinScratch scratch;

@@ -1,4 +1,4 @@
-// Builder `cluster` (seeds/002_d92600183c0e5cf1.txt, part A): floating-cell vertex
+// Builder `cluster` (Chuang 2001, part A): floating-cell vertex
 // clustering into a progressive mesh that keeps sharp features and colour borders.
 #include <gtest/gtest.h>
 
@@ -93,7 +93,7 @@ TEST(ClusterBuilder, GathersSeveralVerticesPerStepDownToAFewTriangles) {
     ASSERT_GE(steps.removedBy(s).size(), 1u) << "step " << s << " gathers nothing";
     ASSERT_TRUE(std::isfinite(steps.error[s]) && steps.error[s] >= 0.0f) << "step " << s;
   }
-  // The seed reports 4 to 20 triangles clustered per level: several vertices per step
+  // The paper reports 4 to 20 triangles clustered per level: several vertices per step
   // (about 2 on this small sphere, 3 on finer meshes).
   const double verticesPerStep = double(steps.removed.size()) / double(steps.size());
   EXPECT_GT(verticesPerStep, 1.6);

@@ -1,4 +1,4 @@
-// Builder `cluster` (seeds/002_d92600183c0e5cf1.txt, part A): the seed's preprocessing
+// Builder `cluster` (Chuang 2001, part A): the paper's preprocessing
 // (cluster_mesh), then its simplification loop (cluster_worker), run in rounds on two
 // threads while the mesh is large and on one for its coarsest levels.
 #include "polder/mesh/cluster_builder.hpp"

@@ -86,7 +86,7 @@ class ClusterMeshSetup {
     for (std::uint32_t v = 0; v < m_mesh.vertexCount; ++v) m_mesh.alive[v] = !m_mesh.fan[v].empty();
     m_mesh.queuedKey.assign(m_mesh.vertexCount, 0.0f);
     m_mesh.stale.assign(m_mesh.vertexCount, 1);
-    // Seed: cells start as a uniform subdivision of the bounding box with size tau0.
+    // The paper: cells start as a uniform subdivision of the bounding box with size tau0.
     const double tau0 = m_options.initialCellFraction > 0.0 ? m_options.initialCellFraction : 2.0 * meanEdge;
     m_mesh.cell.assign(m_mesh.vertexCount, std::min(std::max(tau0, 1e-12), m_mesh.cellLimit));
   }
@@ -165,7 +165,7 @@ class ClusterMeshSetup {
     }
   }
 
-  // Classifies every vertex into the seed's categories from the edges around it, labels
+  // Classifies every vertex into the paper's categories from the edges around it, labels
   // feature lines, adds boundary planes; returns the mean edge length.
   double classify(const std::vector<WeightedPlane>& plane) {
     m_mesh.featureCosine = std::cos(m_options.featureAngleDegrees * 3.14159265358979323846 / 180.0);

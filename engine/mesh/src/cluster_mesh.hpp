@@ -1,4 +1,4 @@
-// The cluster builder's mesh as its steps so far left it (seed 002 part A), with what the
+// The cluster builder's mesh as its steps so far left it (Chuang 2001 part A), with what the
 // seed's preprocessing found: vertex classes, feature lines, seam twins, per-vertex
 // quadrics and colour moments. The workers of a round (cluster_worker.hpp) share it, each
 // changing it only within its own part of the mesh.
@@ -83,7 +83,7 @@ struct ClusterMesh {
   }
 };
 
-// Seed part A's preprocessing of `input` (its vertices in locality order): every vertex
+// Part A's preprocessing of `input` (its vertices in locality order): every vertex
 // classified and given the quadric of its planes; cells start at tau0. Halves of the work
 // run on `pair`'s two threads; the result does not depend on it.
 ClusterMesh setUpClusterMesh(const TriangleMesh& input, const RegionPartition& partition,

@@ -18,7 +18,7 @@ constexpr double kMinNormalCosine = 0.05;
 // nothing, it keeps clusters compact and cells growing evenly.
 constexpr double kCompactness = 1e-6;
 
-// Features cost more to gather, so they go last (the seed's class weights).
+// Features cost more to gather, so they go last (the paper's class weights).
 double classWeight(VertexClass c) {
   switch (c) {
     case VertexClass::Boundary:
@@ -58,7 +58,7 @@ void ClusterWorker::beginRound(std::span<const std::uint32_t> vertices, std::spa
     else if (mark == kOutOfPart)
       mark = 0;
   }
-  // Seed preprocessing, for vertices never evaluated or changed out of sight: their
+  // The paper's preprocessing, for vertices never evaluated or changed out of sight: their
   // priority (the cost of the cluster they would gather). The first ring of the cluster
   // estimates it at a fraction of the work: the queue evaluates the whole cluster when
   // the vertex comes up, and most vertices are gathered before that.
@@ -107,7 +107,7 @@ void ClusterWorker::endRound(std::span<const std::uint32_t> vertices, std::span<
   }
 }
 
-// Seed step 1 with a lazy queue: the neighbourhood of an entry may have changed since it
+// Step 1 of the paper with a lazy queue: the neighbourhood of an entry may have changed since it
 // was made, so the popped vertex is evaluated again and only taken if its current cost
 // (after the geometric checks) still beats every other entry; otherwise it goes back
 // with that cost. On true, r and m_members hold the step to take.
@@ -139,7 +139,7 @@ void ClusterWorker::schedule(std::uint32_t r) {
   if (m_mesh.alive[r] && inPart(r) && evaluate(r, Evaluation::Tree)) m_queue.set(r, queueKey());
 }
 
-// Seed step 6, lazily: the representative gets its new priority at once; a neighbour
+// Step 6 of the paper, lazily: the representative gets its new priority at once; a neighbour
 // already queued is evaluated again when it comes up (its cluster now holds the
 // representative's larger quadric, so its cost has mostly grown); one that had nothing
 // to gather may have something now. The neighbours' weights are updated too: a feature
@@ -192,7 +192,7 @@ bool ClusterWorker::validateCluster(std::uint32_t r) {
   return !m_members.empty() && keepsATriangle(r);
 }
 
-// Seed steps 2 and 3: the spanning tree of r over current edges, breadth first, through
+// Steps 2 and 3 of the paper: the spanning tree of r over current edges, breadth first, through
 // vertices inside the floating cell (a cube of side tau centred on r), in r's region,
 // that may join r under the classification rules (only r's neighbours unless
 // `wholeTree`). m_treePoint[x].mark == m_stamp marks r and the tree; m_parent holds each
@@ -317,7 +317,7 @@ bool ClusterWorker::onSameLine(std::uint32_t p, std::uint32_t x) const {
   return false;
 }
 
-// Seed step 3, "vertices that can be clustered": a member whose cost is far above the
+// Step 3 of the paper, "vertices that can be clustered": a member whose cost is far above the
 // cluster's mean (across a ridge, up a flank) stays out, with its subtree, so clusters
 // follow the directions that cost little (along a cylinder rather than around it).
 void ClusterWorker::dropCostlyMembers() {
@@ -365,7 +365,7 @@ bool ClusterWorker::isTwinEntry(std::size_t i) const {
   return m_rTwin != kNone && m_parent[i] != kNone && m_mesh.twin[m_members[i]] == m_members[m_parent[i]];
 }
 
-// Seed step 4 across a texture seam: every seam member's twin joins r's twin, each as its
+// Step 4 of the paper across a texture seam: every seam member's twin joins r's twin, each as its
 // partner's child in the tree (it goes where its partner goes). r's twin is marked like
 // r, so the other side's triangles that lose their edge vanish just as r's side's do;
 // twins share their partners' positions, so costs and checks at r hold for them.
@@ -521,7 +521,7 @@ void ClusterWorker::scoreMembers(std::uint32_t r) {
   }
 }
 
-// Priority (seed step 1, lowest first): the members' mean cost, so that steps remove
+// Priority (the paper's step 1, lowest first): the members' mean cost, so that steps remove
 // vertices where it is cheapest per vertex. Error: the largest RMS plane distance at r
 // of a cluster r holds after the step.
 void ClusterWorker::scoreCluster(std::uint32_t r) {
@@ -538,7 +538,7 @@ void ClusterWorker::scoreCluster(std::uint32_t r) {
 
 // --- Taking a step -----------------------------------------------------------------------
 
-// Seed step 4: the members (marked, from the last evaluate(r)) join r; triangles with
+// Step 4 of the paper: the members (marked, from the last evaluate(r)) join r; triangles with
 // two or three marked corners vanish, the others are re-pointed at r.
 void ClusterWorker::gather(std::uint32_t r) {
   for (std::size_t i = 0; i < m_members.size(); ++i) {
@@ -578,7 +578,7 @@ void ClusterWorker::compactFan(std::uint32_t v) {
   m_mesh.fan.eraseIf(v, [&](std::uint32_t t) { return !m_mesh.triangleAlive[t]; });
 }
 
-// Seed step 6 updates the weights of the representative's neighbours: a corner or
+// Step 6 of the paper updates the weights of the representative's neighbours: a corner or
 // feature-line vertex around which the current mesh has no sharp edge left (a crease of
 // noise that the coarser mesh smoothed over) becomes simple, a boundary corner whose
 // current outline runs straight on becomes a boundary vertex. Classes only ever relax,

@@ -1,4 +1,4 @@
-// One worker of the cluster builder (seed 002 part A): it evaluates candidate clusters and
+// One worker of the cluster builder (Chuang 2001 part A): it evaluates candidate clusters and
 // takes steps, over the part of a ClusterMesh that a round gives it. Vertices outside
 // that part never join a cluster, are never evaluated, and keep their queue keys for the
 // next round; a worker only changes triangles, fans and vertices within reach of its own
@@ -21,7 +21,7 @@
 namespace polder::mesh::cluster {
 
 // At most this many vertices join in one step (the tree is cut breadth first): it bounds
-// the work of a large cell on fine ground, where the seed gathers 2 to 10 vertices a step.
+// the work of a large cell on fine ground, where the paper gathers 2 to 10 vertices a step.
 inline constexpr std::size_t kMaxClusterSize = 32;
 
 class ClusterWorker {

@@ -1,11 +1,11 @@
 // The LOD cache: one mesh per terrain block, reused across frames while the block-level
-// reuse test allows (DESIGN.md "One frame", step 2).
+// reuse test allows (docs/design.md "One frame", step 2).
 //
-// Follows seed 002 (shared/seeds/002_d92600183c0e5cf1.txt), part B: "a mechanism that caches
+// Follows Chuang, "Level-of-Detail Modeling Technique for Virtual Reality (I)", 2001, part B: "a mechanism that caches
 // the LOD of a block for the possible reuse in the following frames after it is generated";
 // "the cached LOD can be reused if its projected error with respect to the new viewpoint is
 // within a pre-specified error, or a new LOD should be re-generated if the test fails. The
-// test is block-based, rather than vertex-based". The seed reports 92-98 % less LOD
+// test is block-based, rather than vertex-based". The paper reports 92-98 % less LOD
 // construction time and cached meshes with 2.2-8.7 % fewer triangles than fresh ones.
 // lod_reuse.hpp holds the test and the proof that a reused mesh never exceeds tau.
 //
@@ -110,7 +110,7 @@ class LodCache {
   // until the next beginFrame (see above), invalidate(node) or clear().
   const terrain::BlockMesh& acquire(terrain::NodeId node, const terrain::BlockLod& lod, const terrain::LodView& view,
                                     LodOutcome* outcome = nullptr);
-  // Budget mode (DESIGN.md step 4): lod.extractCount(targetTriangles), reused while the
+  // Budget mode (docs/design.md step 4): lod.extractCount(targetTriangles), reused while the
   // target stays within the hysteresis (LodCacheOptions::countHysteresis).
   const terrain::BlockMesh& acquireCount(terrain::NodeId node, const terrain::BlockLod& lod,
                                          std::size_t targetTriangles, LodOutcome* outcome = nullptr);

@@ -1,6 +1,6 @@
-// The block-level reuse test of the LOD cache (DESIGN.md "One frame", step 2).
+// The block-level reuse test of the LOD cache (docs/design.md "One frame", step 2).
 //
-// Follows seed 002 (shared/seeds/002_d92600183c0e5cf1.txt), part B: "we check to see if its
+// Follows Chuang, "Level-of-Detail Modeling Technique for Virtual Reality (I)", 2001, part B: "we check to see if its
 // cached LOD can be reused in the new frame. That is, the cached LOD can be reused if its
 // projected error with respect to the new viewpoint is within a pre-specified error, or a new
 // LOD should be re-generated if the test fails. The test is block-based, rather than
@@ -69,7 +69,7 @@
 // the camera has gone far enough for the whole sub-region's error.
 //
 // Needlessly fine. A mesh built near the camera stays within tau as the camera recedes, but
-// carries triangles the new view does not need (DESIGN.md: reuse while within tau "and not
+// carries triangles the new view does not need (docs/design.md: reuse while within tau "and not
 // needlessly fine"). The allowed error in S scales with a(S) = tau max(dist(c, B(S)), near)/K,
 // and the triangle density of a view-dependent mesh with a(S)^-p (p = densityExponent,
 // measured on this project's terrains: the count of a fresh block grows about as tau^-p). The

@@ -1,4 +1,4 @@
-// How a DEM is cut into blocks and quadtree nodes (DESIGN.md "Grid and dikes"; seed 002,
+// How a DEM is cut into blocks and quadtree nodes (docs/design.md "Grid and dikes"; Chuang 2001,
 // part B: blocks with a dike between each pair of neighbours).
 //
 // Level-0 blocks have 2^k cells (2^k + 1 samples) per side and do not share samples: they

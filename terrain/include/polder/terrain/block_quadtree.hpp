@@ -1,5 +1,5 @@
 // The block quadtree: per-node height ranges and error bounds over a BlockLayout, and the
-// per-frame selection of a quadtree cut (DESIGN.md "One frame", step 1, and "Terrain").
+// per-frame selection of a quadtree cut (docs/design.md "One frame", step 1, and "Terrain").
 //
 // Follows F. Strugar, "Continuous distance-dependent level of detail for rendering
 // heightmaps" (CDLOD, JGT 2009) for per-node min/max boxes and selection into a caller

@@ -1,10 +1,9 @@
-// Dikes: the triangles that close the gaps between the blocks of a frame (DESIGN.md "One
+// Dikes: the triangles that close the gaps between the blocks of a frame (docs/design.md "One
 // frame" step 3, "Terrain / Grid and dikes").
 //
 // Follows:
 // - J.-H. Chuang (莊榮宏), "Level-of-Detail Modeling Technique for Virtual Reality (I)", NSC
-//   89-2218-E-009-012 final report, National Chiao Tung University, 2001, part B (seed
-//   ../shared/seeds/002_d92600183c0e5cf1.txt): blocks with a dike between each pair of
+//   89-2218-E-009-012 final report, National Chiao Tung University, 2001, part B: blocks with a dike between each pair of
 //   neighbours, triangulated every frame from the boundary vertices each block's current LOD
 //   kept, so that meshes of different resolution join without cracks. Here generalised to
 //   quadtree nodes of any level (dikes `stride` cells wide) and to neighbours that differ by
@@ -44,7 +43,7 @@
 // sides keep every vertex (stride 1, full detail) a zipper cuts each cell along the same
 // diagonal as heightfield.hpp, so such dikes are the full-resolution surface itself.
 //
-// Errors (DESIGN.md "Errors are honest"). dikeTriangleErrors() gives every dike triangle's
+// Errors (docs/design.md "Errors are honest"). dikeTriangleErrors() gives every dike triangle's
 // exact vertical error against the full-resolution surface; the terrain engine's dike check
 // (engine/terrain_engine/src/dike_check.hpp) holds every drawn one within tau on screen by
 // pinning the blocks' side vertices where needed. dikeErrorBound() is an a-priori

@@ -2,7 +2,7 @@
 //
 // Row 0 is the SOUTH edge (image files store the north edge first; readers flip), so
 // sample (x, y) lies at world (x * spacingX, y * spacingY, height) in the frame of
-// DESIGN.md: x east, y north, z up, metres, origin at the south-west sample.
+// docs/design.md: x east, y north, z up, metres, origin at the south-west sample.
 //
 // Triangulation convention, shared by the renderer's full-resolution mesh and the Embree
 // query scene (whose grid geometry splits each quad this way): the cell with corners

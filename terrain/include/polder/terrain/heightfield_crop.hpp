@@ -1,4 +1,4 @@
-// A rectangle cut out of a heightfield (benchmark presets such as seed 002's 660 x 660
+// A rectangle cut out of a heightfield (benchmark presets such as Chuang 2001's 660 x 660
 // samples from the middle of a larger DEM).
 #pragma once
 

@@ -1,9 +1,9 @@
 // Builder `cluster`: view-independent LOD modelling by floating-cell vertex clustering
-// (seeds/002_d92600183c0e5cf1.txt, part A). Each step picks the representative of lowest
+// (J.-H. Chuang, "Level-of-Detail Modeling Technique for Virtual Reality (I)", 2001, part A). Each step picks the representative of lowest
 // cost, centres an axis-aligned cell of size tau on it, grows a spanning tree from it over
 // the current edges inside the cell, and gathers the tree onto it: several vertices per
 // step; triangles with two or three gathered corners vanish, the others are re-pointed
-// (no edge collapse's link condition: the seed simplifies topology too, though a step
+// (no edge collapse's link condition: the paper simplifies topology too, though a step
 // never pinches the surface into a non-manifold edge). The representative is an original
 // vertex, so every level uses original vertices only (simplification_steps.hpp).
 //
@@ -23,7 +23,7 @@
 // the vertex's class weight, averaged over the gathered vertices. A vertex costing far
 // more than the others, or whose move would flip a surviving triangle or pinch the
 // surface (a non-manifold edge, an isolated vertex), stays out with its subtree. Cells
-// start at tau0 (the seed's uniform subdivision of the bounding box); a representative
+// start at tau0 (the paper's uniform subdivision of the bounding box); a representative
 // with nothing to gather in its cell grows it by `cellGrowth`, so cheap parts coarsen in
 // larger cells while costly ones wait, until the cell covers the bounding box.
 //

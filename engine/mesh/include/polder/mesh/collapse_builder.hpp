@@ -1,4 +1,4 @@
-// Builder `collapse`: the ASLOD cluster tree (seeds/000_b38ee0937017652c.txt, section 2)
+// Builder `collapse`: the ASLOD cluster tree (D. Schmalstieg and A. Fuhrmann, "Coarse View-Dependent Levels of Detail for Hierarchical and Deformable Models", 1999, section 2)
 // grown by half-edge collapses: each step moves one vertex onto one of its neighbours, so
 // every level uses original vertices only. Collapses are taken cheapest first by the
 // quadric error metric (Garland & Heckbert 1997) of the removed vertex's planes at the

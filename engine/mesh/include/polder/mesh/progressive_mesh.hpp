@@ -1,5 +1,5 @@
 // A progressive mesh with regions: the multiresolution sequence of ASLOD
-// (seeds/000_b38ee0937017652c.txt, sections 2 and 4), assembled from a builder's steps.
+// (D. Schmalstieg and A. Fuhrmann, "Coarse View-Dependent Levels of Detail for Hierarchical and Deformable Models", 1999, sections 2 and 4), assembled from a builder's steps.
 //
 // Every region owns its own sequence: its triangles (those holding two of its vertices)
 // ordered so the triangles alive after m of its steps are a prefix, and per step the

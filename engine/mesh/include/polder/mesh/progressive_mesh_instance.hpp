@@ -1,5 +1,5 @@
 // The per-instance LOD cache of a progressive mesh (ASLOD's polygonal cache,
-// seeds/000_b38ee0937017652c.txt, sections 2 and 6): one index buffer per region that
+// Schmalstieg and Fuhrmann 1999, sections 2 and 6): one index buffer per region that
 // moves back and forth in the region's sequence, writing only the corners that change
 // between the old and the new level, plus the region's border lookup table. Several
 // instances of one ProgressiveMesh sit at independent levels; the mesh is shared, read-only.

@@ -1,9 +1,9 @@
 // What a simplification builder produces: the cluster tree of ASLOD
-// (seeds/000_b38ee0937017652c.txt, section 2) as the ordered list of its joins. Each step
+// (Schmalstieg and Fuhrmann 1999, section 2) as the ordered list of its joins. Each step
 // gathers one or more still-active vertices onto a representative, itself an original
 // vertex that stays active, so every level of detail uses original vertices only and one
 // vertex table serves them all. A half-edge collapse is a step with one removed vertex;
-// the cluster builder (seeds/002_d92600183c0e5cf1.txt, part A) removes several per step.
+// the cluster builder (Chuang 2001, part A) removes several per step.
 // A removed vertex usually goes onto the representative; across a texture seam, where the
 // surface's vertices are split in two, a step also moves the removed vertex's twin onto the
 // representative's twin, so both sides of the seam change together and never part.

@@ -1,4 +1,4 @@
-// The query scene: Polder's one Embree adapter (DESIGN.md "Queries and measurement").
+// The query scene: Polder's one Embree adapter (docs/design.md "Queries and measurement").
 //
 // It holds a surface in Embree and answers height under a point, ray casts, line of sight
 // and batches of rays. Two kinds of surface:

@@ -1,4 +1,4 @@
-// The measured screen-space error of a frame (DESIGN.md "Queries and measurement"): the
+// The measured screen-space error of a frame (docs/design.md "Queries and measurement"): the
 // ground truth that benchmarks and tests hold the LOD selection to, rather than the bound
 // the selector believed.
 //

@@ -1,0 +1,128 @@
+// polder::terrain_engine — one frame of terrain (docs/design.md "One frame"): select the block
+// quadtree cut, get each visible block's mesh from the LOD cache (or rebuild it), stitch
+// the dikes, and, in budget mode, split a triangle budget over the blocks first.
+//
+//   auto engine = TerrainEngine::create(field, options);        // preprocessing, with progress
+//   const TerrainFrame& frame = (*engine)->update(camera);      // every frame
+//   for (const auto& block : frame.blocks) ... block.mesh ...   // grid-coordinate meshes
+//   frame.dikes ...                                             // the gap network's triangles
+//
+// Thread contract: update() and everything reading its frame run on one thread (the frame
+// thread). In steady state (camera still, cache warm) update() does not allocate.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <polder/camera.hpp>
+#include <polder/lod/allocator.hpp>
+#include <polder/mesh_data.hpp>
+#include <polder/result.hpp>
+#include <polder/terrain/block_layout.hpp>
+#include <polder/terrain/block_mesh.hpp>
+#include <polder/terrain/dikes.hpp>
+#include <polder/terrain/heightfield.hpp>
+#include <polder/terrain/watertight.hpp>
+
+namespace polder {
+
+enum class LodMode {
+  PixelError,      // every block within tauPx of measured screen-space error
+  TriangleBudget,  // the allocator splits budgetTriangles over the visible blocks
+};
+
+struct TerrainEngineOptions {
+  int blockK = 5;  // blocks of 2^k + 1 samples: 17, 33, 65, 129
+  LodMode mode = LodMode::PixelError;
+  double tauPx = 1.0;
+  std::uint64_t budgetTriangles = 200000;  // dike triangles count inside the budget
+  double alpha = 3.0;                      // the allocator's attenuation exponent
+  std::size_t cacheBytes = std::size_t(256) << 20;
+  bool cacheEnabled = true;  // false: rebuild every block every frame (for comparisons)
+};
+
+struct TerrainFrameStats {
+  std::size_t visibleBlocks = 0;
+  std::size_t culledBlocks = 0;
+  std::size_t blockTriangles = 0;
+  std::size_t dikeTriangles = 0;
+  double selectMs = 0.0;
+  double lodMs = 0.0;
+  double dikesMs = 0.0;
+  double totalMs = 0.0;
+  std::uint64_t cacheLookups = 0;  // this frame
+  std::uint64_t cacheHits = 0;
+  std::uint64_t cacheRebuilds = 0;
+  // Error mode's dike check (dike_check.hpp): the largest projected error of a drawn dike
+  // triangle (an upper bound, pixels) and how many drawn dike triangles stay over tau.
+  double dikeErrorPx = 0.0;
+  std::size_t dikeTrianglesOverTau = 0;
+  std::size_t triangles() const { return blockTriangles + dikeTriangles; }
+};
+
+struct TerrainBlockDraw {
+  terrain::NodeId node;
+  const terrain::BlockMesh* mesh = nullptr;  // valid until the next update()
+};
+
+// The dike triangles to draw: those touching a visible block, in global full-resolution
+// sample coordinates, counter-clockwise seen from above.
+struct TerrainDikes {
+  std::span<const terrain::DikeVertex> vertices;
+  std::span<const std::uint32_t> indices;
+};
+
+struct TerrainFrame {
+  std::vector<TerrainBlockDraw> blocks;  // visible blocks only
+  TerrainDikes dikes;
+  TerrainFrameStats stats;
+};
+
+struct TerrainFrameMeshes {
+  std::span<const MeshData> blocks;  // one per TerrainFrame::blocks entry, same order
+  std::span<const MeshData> dikes;   // the visible dike triangles, in tiles
+};
+
+class TerrainEngine {
+ public:
+  static Result<std::unique_ptr<TerrainEngine>> create(std::shared_ptr<const terrain::Heightfield> field,
+                                                       const TerrainEngineOptions& options = {},
+                                                       const std::function<void(float)>& progress = {});
+  ~TerrainEngine();
+  TerrainEngine(const TerrainEngine&) = delete;
+  TerrainEngine& operator=(const TerrainEngine&) = delete;
+
+  const TerrainFrame& update(const Camera& camera);
+
+  // update() in two halves, for a caller whose allocator splits one budget over the terrain
+  // and other regions (polder::scene): beginFrame selects the cut and, in budget mode,
+  // returns the visible blocks' demands (projected-area weights, triangle ranges);
+  // finishFrame then extracts and stitches within `budgetTriangles` (the terrain's share,
+  // dikes included; ignored in error mode). The span lives until finishFrame.
+  std::span<const lod::RegionDemand> beginFrame(const Camera& camera);
+  const TerrainFrame& finishFrame(const Camera& camera, std::uint64_t budgetTriangles);
+
+  // The last frame as world-space meshes (positions relative to per-block or per-tile
+  // origins, with normals): for rendering, Embree measurement and export. The storage is
+  // reused, so once frames stop growing this allocates nothing; valid until the next call.
+  TerrainFrameMeshes frameMeshes();
+
+  // Checks the last frame's whole cut, blocks and dikes together, on the integer sample
+  // grid: open edges, T-junctions, overlaps, holes. Allocates; for tests and benchmarks.
+  terrain::WatertightReport checkWatertight() const;
+
+  const terrain::Heightfield& field() const;
+  const terrain::BlockLayout& layout() const;
+  const TerrainEngineOptions& options() const;
+  void setOptions(const TerrainEngineOptions& options);  // tau, mode, budget, cache switch
+
+ private:
+  struct Impl;
+  explicit TerrainEngine(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace polder

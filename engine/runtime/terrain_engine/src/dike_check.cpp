@@ -1,0 +1,107 @@
+#include "dike_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace polder {
+
+DikeCheck::DikeCheck(const terrain::Heightfield& field, const terrain::BlockLayout& layout)
+    : m_field(field), m_layout(layout), m_errors(field) {}
+
+void DikeCheck::reserve(std::size_t cutNodes) {
+  m_nodeRepinned.reserve(cutNodes);
+  m_repinned.reserve(cutNodes);
+  m_splits.reserve(cutNodes);
+}
+
+DikeCheckResult DikeCheck::check(const Camera& camera, double tauPx, const terrain::DikeStage& dikes,
+                                 std::span<const terrain::SelectedNode> cut,
+                                 std::span<const terrain::BlockMesh* const> cutMeshes, cache::LodCache& cache) {
+  DikeCheckResult result;
+  m_errors.beginPass(dikes.visibleTriangleCount());
+  m_nodeRepinned.assign(cut.size(), 0);
+  m_repinned.clear();
+  m_splits.clear();
+  const terrain::DikeMesh& mesh = dikes.mesh();
+  const std::span<const std::uint32_t> vertexNodes = dikes.vertexNodes();
+  const std::span<const std::uint32_t> indices = dikes.visibleIndices();
+  const double k = camera.errorProjectionConstant();
+  const double near = std::max(camera.nearM, 1e-3);
+  for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+    const terrain::DikeVertex& a = mesh.vertices[indices[t]];
+    const terrain::DikeVertex& b = mesh.vertices[indices[t + 1]];
+    const terrain::DikeVertex& c = mesh.vertices[indices[t + 2]];
+    const terrain::DikeErrorCache::Triangle& known = m_errors.lookUp(a, b, c);
+    const double error = known.error;
+    if (!(error > 0.0)) continue;
+    // K e / max(d, near) > tau  <=>  d < K e / tau (or the near plane already fails it).
+    // Pins go on a little early (pinReach): as the camera approaches, the triangle then
+    // never fails, and the frame need not be stitched again.
+    const double reach = k * error / tauPx, pinReach = reach * (1.0 + kPinHeadroom);
+    if (pinReach <= near) continue;
+    const int tx0 = std::min({a.x, b.x, c.x}), tx1 = std::max({a.x, b.x, c.x});
+    const int ty0 = std::min({a.y, b.y, c.y}), ty1 = std::max({a.y, b.y, c.y});
+    const glm::dvec3 lo{tx0 * m_field.spacingX, ty0 * m_field.spacingY, double(known.zMin) - error};
+    const glm::dvec3 hi{tx1 * m_field.spacingX, ty1 * m_field.spacingY, double(known.zMax) + error};
+    const glm::dvec3 nearest = glm::clamp(camera.position, lo, hi);
+    const double distance = std::max(glm::length(nearest - camera.position), near);
+    result.worstPx = std::max(result.worstPx, k * error / distance);
+    if (distance >= pinReach) continue;
+    const bool failing = distance < reach;
+    bool pinned = false;
+    for (const std::uint32_t v : {indices[t], indices[t + 1], indices[t + 2]}) {
+      const std::uint32_t node = vertexNodes[v];
+      if (node != terrain::DikeStage::kNoNode) pinned |= pinAround(node, tx0, ty0, tx1, ty1, failing, cut, cutMeshes, cache);
+    }
+    if (!failing) continue;
+    ++result.failing;
+    if (pinned) continue;
+    // The coarsest node whose footprint the triangle touches: its dike strip holds samples
+    // that no side can pin (it need not have a vertex in the triangle). Rare: a scan will do.
+    std::size_t coarsest = cut.size();
+    for (std::size_t i = 0; i < cut.size(); ++i) {
+      if (cut[i].node.level == 0 || (coarsest < cut.size() && cut[i].node.level <= cut[coarsest].node.level)) continue;
+      const terrain::SampleRect area = m_layout.footprint(cut[i].node);
+      if (area.x0 <= tx1 && tx0 <= area.x1 && area.y0 <= ty1 && ty0 <= area.y1) coarsest = i;
+    }
+    if (coarsest < cut.size() && std::find(m_splits.begin(), m_splits.end(), cut[coarsest].node) == m_splits.end())
+      m_splits.push_back(cut[coarsest].node);
+  }
+  return result;
+}
+
+// Pins the sides of cut node `node` that the dike triangle with bounding box [tx0, tx1] x
+// [ty0, ty1] lies along, over the box's extent (rounded outwards to the node's stride). An
+// urgent pin (the triangle fails now) lists the node in repinned(); the others take effect
+// when the cache next hands out the node's mesh.
+bool DikeCheck::pinAround(std::uint32_t node, int tx0, int ty0, int tx1, int ty1, bool urgent,
+                          std::span<const terrain::SelectedNode> cut,
+                          std::span<const terrain::BlockMesh* const> cutMeshes, cache::LodCache& cache) {
+  const terrain::BlockMesh* mesh = cutMeshes[node];
+  if (!mesh) return false;
+  const terrain::BlockFootprint& fp = mesh->footprint;
+  const int s = fp.stride;
+  const int x0 = fp.x0, y0 = fp.y0, x1 = fp.x0 + mesh->cellsX * s, y1 = fp.y0 + mesh->cellsY * s;
+  auto span = [s](int lo, int hi, int origin, int cells) {
+    return std::pair<int, int>{std::clamp((lo - origin) / s, 0, cells),
+                               std::clamp((hi - origin + s - 1) / s, 0, cells)};
+  };
+  bool added = false;
+  const terrain::NodeId id = cut[node].node;
+  // The triangle lies in the gap network, outside every interior: beside a side it touches.
+  if (tx1 <= x0 || tx0 >= x1) {
+    const auto [from, to] = span(std::max(ty0, y0), std::min(ty1, y1), y0, mesh->cellsY);
+    added |= cache.pin(id, tx1 <= x0 ? terrain::BlockEdge::West : terrain::BlockEdge::East, from, to);
+  }
+  if (ty1 <= y0 || ty0 >= y1) {
+    const auto [from, to] = span(std::max(tx0, x0), std::min(tx1, x1), x0, mesh->cellsX);
+    added |= cache.pin(id, ty1 <= y0 ? terrain::BlockEdge::South : terrain::BlockEdge::North, from, to);
+  }
+  if (added && urgent && !m_nodeRepinned[node]) {
+    m_nodeRepinned[node] = 1;
+    m_repinned.push_back(node);
+  }
+  return added;
+}
+
+}  // namespace polder

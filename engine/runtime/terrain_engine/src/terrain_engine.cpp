@@ -1,0 +1,396 @@
+#include <polder/terrain_engine.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <polder/cache/lod_cache.hpp>
+#include <polder/cache/lru_cache.hpp>
+#include <polder/lod/allocator.hpp>
+#include <polder/lod/projected_area.hpp>
+#include <polder/terrain/block_quadtree.hpp>
+#include <polder/terrain/normals.hpp>
+#include <polder/terrain/rtin.hpp>
+
+#include "dike_check.hpp"
+#include <polder/terrain/dike_stage.hpp>
+
+namespace polder {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double millisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+std::uint64_t nodeKey(const terrain::NodeId& node) {
+  return (std::uint64_t(node.level) << 56) | (std::uint64_t(node.bx) << 28) | std::uint64_t(node.by);
+}
+
+cache::LodCacheOptions cacheOptions(const TerrainEngineOptions& options) {
+  cache::LodCacheOptions cache;
+  cache.budgetBytes = options.cacheBytes;
+  cache.enabled = options.cacheEnabled;
+  // In budget mode a reused mesh may fall short of its share by this fraction; keep it small
+  // so frames land close to the budget.
+  cache.countHysteresis = 0.02;
+  return cache;
+}
+
+}  // namespace
+
+struct TerrainEngine::Impl {
+  std::shared_ptr<const terrain::Heightfield> field;
+  terrain::BlockLayout layout;
+  terrain::BlockQuadtree quadtree;
+  TerrainEngineOptions options;
+
+  // Error hierarchies of the nodes frames have needed, least recently used evicted. A miss
+  // builds one (allocates): that happens while the view changes, not in steady state.
+  cache::LruCache<std::uint64_t, terrain::BlockLod> lods{std::size_t(64) << 20};
+  cache::LodCache meshes;
+
+  // Per-frame storage, reserved once.
+  terrain::SelectionScratch selectionScratch;
+  std::vector<terrain::SelectedNode> cut;
+  std::vector<const terrain::BlockMesh*> cutMeshes;  // parallel to cut
+  std::vector<lod::RegionDemand> demands;
+  std::vector<std::uint32_t> allocation;
+  std::vector<std::size_t> visibleInCut;  // indices into cut of the visible nodes
+  lod::AllocationScratch allocationScratch{0};
+  terrain::DikeStage dikes;
+  DikeCheck dikeCheck;
+  static constexpr std::size_t kMaxForcedSplits = 64;
+  std::vector<terrain::NodeId> forcedSplits;  // SelectionOptions::forcedSplits, reserved
+  std::vector<double> forcedSplitDistances;   // camera distance when each was added
+  std::size_t lastDikeTriangles = 0;
+  // The frame between beginFrame and finishFrame.
+  Clock::time_point frameStart{};
+  TerrainFrameStats frameStats;
+  cache::LodCacheCounters countersBefore{};
+  TerrainFrame frame;
+  std::vector<MeshData> blockMeshes;  // frameMeshes() storage, reused
+  std::vector<MeshData> dikeTiles;
+
+  Impl(std::shared_ptr<const terrain::Heightfield> f, terrain::BlockLayout l, terrain::BlockQuadtree q,
+       const TerrainEngineOptions& o)
+      : field(std::move(f)), layout(l), quadtree(std::move(q)), options(o),
+        meshes(cacheOptions(o)), dikes(*field, layout), dikeCheck(*field, layout) {
+    selectionScratch.reserve(quadtree);
+    const std::size_t bound = quadtree.selectionBound();
+    cut.reserve(bound);
+    cutMeshes.reserve(bound);
+    demands.reserve(bound);
+    allocation.reserve(bound);
+    visibleInCut.reserve(bound);
+    allocationScratch.reserve(bound);
+    frame.blocks.reserve(bound);
+    dikeCheck.reserve(bound);
+    forcedSplits.reserve(kMaxForcedSplits);
+    forcedSplitDistances.reserve(kMaxForcedSplits);
+  }
+
+  const terrain::BlockLod* lodFor(const terrain::NodeId& node) {
+    const std::uint64_t key = nodeKey(node);
+    if (terrain::BlockLod* cached = lods.find(key)) return cached;
+    auto built = terrain::BlockLod::build(*field, layout.interior(node));
+    if (!built) return nullptr;  // no whole cell inside the DEM: selection never draws such nodes
+    const std::size_t bytes = built->memoryBytes();
+    return &lods.insert(key, std::move(*built), bytes);
+  }
+
+  // K here bounds a vertical error's pixels anywhere in the view (Camera::errorProjectionConstant).
+  terrain::LodView viewFor(const terrain::BlockLod& lod, const Camera& camera) const {
+    return terrain::LodView{camera.position - lod.origin(), camera.errorProjectionConstant(), options.tauPx,
+                            std::max(camera.nearM, 1e-3)};
+  }
+
+  void select(const Camera& camera) {
+    terrain::SelectionOptions selection;
+    selection.tolerancePx = options.mode == LodMode::PixelError ? options.tauPx : 1.0;
+    selection.errorMeasure = terrain::NodeErrorMeasure::Floor;
+    if (options.mode == LodMode::PixelError) selection.forcedSplits = forcedSplits;
+    quadtree.select(camera, selection, selectionScratch, cut);
+    cutMeshes.assign(cut.size(), nullptr);
+  }
+
+  double distanceTo(const terrain::NodeId& node, const Camera& camera) const {
+    const Aabb box = quadtree.box(node);
+    return glm::length(glm::clamp(camera.position, box.minCorner, box.maxCorner) - camera.position);
+  }
+
+  // Adds nodes to split (dike_check.hpp); true when one is new. Each is kept until the camera
+  // is twice as far from it as when it was added.
+  bool forceSplits(std::span<const terrain::NodeId> nodes, const Camera& camera) {
+    bool added = false;
+    for (const terrain::NodeId& node : nodes) {
+      if (std::find(forcedSplits.begin(), forcedSplits.end(), node) != forcedSplits.end()) continue;
+      if (forcedSplits.size() == kMaxForcedSplits) {  // the oldest goes
+        forcedSplits.erase(forcedSplits.begin());
+        forcedSplitDistances.erase(forcedSplitDistances.begin());
+      }
+      forcedSplits.push_back(node);
+      forcedSplitDistances.push_back(distanceTo(node, camera));
+      added = true;
+    }
+    return added;
+  }
+  void expireForcedSplits(const Camera& camera) {
+    for (std::size_t i = forcedSplits.size(); i-- > 0;) {
+      if (distanceTo(forcedSplits[i], camera) <= 2.0 * forcedSplitDistances[i] + 1.0) continue;
+      forcedSplits.erase(forcedSplits.begin() + std::ptrdiff_t(i));
+      forcedSplitDistances.erase(forcedSplitDistances.begin() + std::ptrdiff_t(i));
+    }
+  }
+
+  // Error mode: every node of the cut at tau (culled ones too: their sides feed the dikes).
+  void extractForError(const Camera& camera) {
+    for (std::size_t i = 0; i < cut.size(); ++i) acquireForError(i, camera);
+  }
+  void acquireForError(std::size_t i, const Camera& camera) {
+    const terrain::BlockLod* lod = lodFor(cut[i].node);
+    cutMeshes[i] = lod ? &meshes.acquire(cut[i].node, *lod, viewFor(*lod, camera)) : nullptr;
+  }
+
+  // Error mode: stitch, check the drawn dike triangles against tau (dike_check.hpp), and
+  // while the check pins block sides, rebuild those blocks and stitch again.
+  DikeCheckResult stitchWithinTolerance(const Camera& camera) {
+    constexpr int kMaxRounds = 16;
+    for (int round = 1;; ++round) {
+      dikes.stitch(cut, cutMeshes);
+      const DikeCheckResult result = dikeCheck.check(camera, options.tauPx, dikes, cut, cutMeshes, meshes);
+      if (dikeCheck.repinned().empty() || round == kMaxRounds) return result;
+      for (const std::uint32_t i : dikeCheck.repinned()) acquireForError(i, camera);
+    }
+  }
+
+  // Budget mode, once per frame: the visible blocks' weights (projected area of their boxes)
+  // and the coarsest meshes of the culled nodes, which only their sides (for the dikes) need.
+  void prepareBudget(const Camera& camera) {
+    const lod::AreaView areaView = lod::makeAreaView(camera);
+    demands.clear();
+    visibleInCut.clear();
+    const auto maxTriangles = std::uint32_t(terrain::blockMeshTriangleBound(layout.k()));
+    for (std::size_t i = 0; i < cut.size(); ++i) {
+      if (!cut[i].visible) {
+        const terrain::BlockLod* lod = lodFor(cut[i].node);
+        cutMeshes[i] = lod ? &meshes.acquireCount(cut[i].node, *lod, 0) : nullptr;
+        continue;
+      }
+      const Aabb box = quadtree.box(cut[i].node);
+      const double area = lod::visibleAreaPx(lod::orientedBoxFromAabb(box.minCorner, box.maxCorner), areaView);
+      demands.push_back(lod::RegionDemand{std::max(area, 1e-9), 2, maxTriangles});
+      visibleInCut.push_back(i);
+    }
+    allocation.resize(demands.size());
+  }
+
+  // Budget mode, per attempt: the allocator splits the blocks' share of the budget over the
+  // visible blocks (ASLOD, Schmalstieg and Fuhrmann 1999, section 3) and each extracts its best mesh for its share.
+  void extractForBudget(std::uint64_t blockBudget) {
+    lod::allocateTriangles(demands, blockBudget, options.alpha, allocation, allocationScratch);
+    for (std::size_t v = 0; v < visibleInCut.size(); ++v) {
+      const std::size_t i = visibleInCut[v];
+      const terrain::BlockLod* lod = lodFor(cut[i].node);
+      if (lod) cutMeshes[i] = &meshes.acquireCount(cut[i].node, *lod, allocation[v]);
+    }
+  }
+
+  std::size_t visibleBlockTriangles() const {
+    std::size_t triangles = 0;
+    for (std::size_t i = 0; i < cut.size(); ++i)
+      if (cut[i].visible && cutMeshes[i]) triangles += cutMeshes[i]->triangleCount();
+    return triangles;
+  }
+};
+
+Result<std::unique_ptr<TerrainEngine>> TerrainEngine::create(std::shared_ptr<const terrain::Heightfield> field,
+                                                             const TerrainEngineOptions& options,
+                                                             const std::function<void(float)>& progress) {
+  if (!field) return makeError(ErrorKind::InvalidArgument, "TerrainEngine::create needs a heightfield");
+  if (!(options.tauPx > 0.0) || !std::isfinite(options.tauPx))
+    return makeError(ErrorKind::InvalidArgument, "the pixel tolerance must be positive");
+  if (!(options.alpha > 0.0)) return makeError(ErrorKind::InvalidArgument, "the allocator's alpha must be positive");
+  auto layout = terrain::BlockLayout::create(field->width, field->height, options.blockK);
+  if (!layout) return layout.error();
+  terrain::BlockQuadtreeOptions treeOptions;
+  treeOptions.progress = progress;
+  auto quadtree = terrain::BlockQuadtree::build(*field, *layout, treeOptions);
+  if (!quadtree) return quadtree.error();
+  auto impl = std::make_unique<Impl>(std::move(field), *layout, std::move(*quadtree), options);
+  return std::unique_ptr<TerrainEngine>(new TerrainEngine(std::move(impl)));
+}
+
+TerrainEngine::TerrainEngine(std::unique_ptr<Impl> impl) : m_impl(std::move(impl)) {}
+TerrainEngine::~TerrainEngine() = default;
+
+const TerrainFrame& TerrainEngine::update(const Camera& camera) {
+  beginFrame(camera);
+  return finishFrame(camera, m_impl->options.budgetTriangles);
+}
+
+std::span<const lod::RegionDemand> TerrainEngine::beginFrame(const Camera& camera) {
+  Impl& s = *m_impl;
+  s.frameStart = Clock::now();
+  s.frameStats = TerrainFrameStats{};
+  s.meshes.beginFrame();
+  s.countersBefore = s.meshes.counters();
+
+  // 1. Select: the cut of the block quadtree for this view. A node's error here is what it
+  //    cannot refine (its stride's floor): the view-dependent extraction below holds
+  //    everything else within tau.
+  s.expireForcedSplits(camera);
+  const auto start = Clock::now();
+  s.select(camera);
+  if (s.options.mode == LodMode::TriangleBudget) s.prepareBudget(camera);
+  s.frameStats.selectMs = millisecondsSince(start);
+  if (s.options.mode == LodMode::TriangleBudget) return s.demands;
+  return {};
+}
+
+const TerrainFrame& TerrainEngine::finishFrame(const Camera& camera, std::uint64_t budgetTriangles) {
+  Impl& s = *m_impl;
+  TerrainFrameStats& stats = s.frameStats;
+  const cache::LodCacheCounters before = s.countersBefore;
+
+  // 2. LOD per block, from the cache; 3. dikes between them.
+  auto start = Clock::now();
+  double dikesMs = 0.0;
+  if (s.options.mode == LodMode::PixelError) {
+    // Where the dike check finds coarse dike strips that pins cannot cure, split their nodes
+    // and do the frame again (at most four passes; the splits stay, so the next frames start
+    // with them).
+    for (int pass = 1;; ++pass) {
+      s.extractForError(camera);
+      const auto dikesStart = Clock::now();
+      const DikeCheckResult check = s.stitchWithinTolerance(camera);
+      dikesMs += millisecondsSince(dikesStart);
+      stats.dikeTrianglesOverTau = check.failing;
+      stats.dikeErrorPx = check.worstPx;
+      if (pass == 4 || !s.forceSplits(s.dikeCheck.splits(), camera)) break;
+      const auto selectStart = Clock::now();
+      s.select(camera);
+      stats.selectMs += millisecondsSince(selectStart);
+    }
+  } else {
+    // The dikes count inside the budget: give the blocks what last frame's dikes left, then
+    // correct (up to three times) while the frame misses 0.95P..P.
+    const std::uint64_t budget = budgetTriangles;
+    std::uint64_t blockBudget = budget > s.lastDikeTriangles ? budget - s.lastDikeTriangles : budget / 2;
+    for (int attempt = 0; attempt < 4; ++attempt) {
+      s.extractForBudget(blockBudget);
+      const auto dikesStart = Clock::now();
+      s.dikes.stitch(s.cut, s.cutMeshes);
+      dikesMs += millisecondsSince(dikesStart);
+      const std::uint64_t total = s.visibleBlockTriangles() + s.dikes.visibleTriangleCount();
+      if (total <= budget && total >= budget - budget / 20) break;
+      const std::int64_t correction = std::int64_t(budget) - std::int64_t(budget / 40) - std::int64_t(total);
+      blockBudget = std::uint64_t(std::max<std::int64_t>(std::int64_t(blockBudget) + correction, 0));
+    }
+    s.lastDikeTriangles = s.dikes.visibleTriangleCount();
+  }
+  stats.lodMs = millisecondsSince(start) - dikesMs;
+  stats.dikesMs = dikesMs;
+
+  s.frame.blocks.clear();
+  for (std::size_t i = 0; i < s.cut.size(); ++i) {
+    if (!s.cut[i].visible) {
+      ++stats.culledBlocks;
+      continue;
+    }
+    if (!s.cutMeshes[i]) continue;
+    ++stats.visibleBlocks;
+    stats.blockTriangles += s.cutMeshes[i]->triangleCount();
+    s.frame.blocks.push_back(TerrainBlockDraw{s.cut[i].node, s.cutMeshes[i]});
+  }
+  s.frame.dikes = TerrainDikes{s.dikes.mesh().vertices, s.dikes.visibleIndices()};
+  stats.dikeTriangles = s.dikes.visibleTriangleCount();
+  const cache::LodCacheCounters& after = s.meshes.counters();
+  stats.cacheLookups = after.lookups - before.lookups;
+  stats.cacheHits = after.hits - before.hits;
+  stats.cacheRebuilds = after.rebuilds - before.rebuilds;
+  stats.totalMs = millisecondsSince(s.frameStart);
+  s.frame.stats = stats;
+  return s.frame;
+}
+
+namespace {
+
+void clearKeepingCapacity(MeshData& mesh) {
+  mesh.positions.clear();
+  mesh.normals.clear();
+  mesh.indices.clear();
+}
+
+}  // namespace
+
+TerrainFrameMeshes TerrainEngine::frameMeshes() {
+  Impl& s = *m_impl;
+  const terrain::Heightfield& field = *s.field;
+  if (s.blockMeshes.size() < s.frame.blocks.size()) s.blockMeshes.resize(s.frame.blocks.size());
+  for (std::size_t b = 0; b < s.frame.blocks.size(); ++b) {
+    const terrain::BlockMesh& block = *s.frame.blocks[b].mesh;
+    const terrain::BlockFootprint& footprint = block.footprint;
+    MeshData& mesh = s.blockMeshes[b];
+    clearKeepingCapacity(mesh);
+    mesh.origin = {footprint.x0 * field.spacingX, footprint.y0 * field.spacingY, 0.0};
+    for (const terrain::GridVertex& v : block.vertices) {
+      const int di = v.i * footprint.stride, dj = v.j * footprint.stride;
+      mesh.positions.emplace_back(float(di * field.spacingX), float(dj * field.spacingY),
+                                  field.at(footprint.x0 + di, footprint.y0 + dj));
+      mesh.normals.push_back(terrain::sampleNormal(field, footprint.x0 + di, footprint.y0 + dj));
+    }
+    mesh.indices.assign(block.indices.begin(), block.indices.end());
+  }
+
+  // Dike triangles go into tiles of 8 x 8 level-0 blocks, each relative to its own corner,
+  // so the floats stay small on DEMs of any extent. Vertices are not shared between
+  // triangles: dikes are a small share of a frame and this needs no lookup table.
+  const int tileSamples = 8 * s.layout.pitch();
+  const int tilesX = (field.width + tileSamples - 1) / tileSamples;
+  const int tilesY = (field.height + tileSamples - 1) / tileSamples;
+  if (s.dikeTiles.size() != std::size_t(tilesX) * std::size_t(tilesY)) s.dikeTiles.resize(std::size_t(tilesX) * std::size_t(tilesY));
+  for (MeshData& tile : s.dikeTiles) clearKeepingCapacity(tile);
+  const TerrainDikes& dikes = s.frame.dikes;
+  for (std::size_t t = 0; t + 2 < dikes.indices.size(); t += 3) {
+    const terrain::DikeVertex first = dikes.vertices[dikes.indices[t]];
+    const int tx = std::min(first.x / tileSamples, tilesX - 1), ty = std::min(first.y / tileSamples, tilesY - 1);
+    MeshData& tile = s.dikeTiles[std::size_t(ty) * std::size_t(tilesX) + std::size_t(tx)];
+    tile.origin = {double(tx * tileSamples) * field.spacingX, double(ty * tileSamples) * field.spacingY, 0.0};
+    for (int corner = 0; corner < 3; ++corner) {
+      const terrain::DikeVertex g = dikes.vertices[dikes.indices[t + std::size_t(corner)]];
+      tile.indices.push_back(std::uint32_t(tile.positions.size()));
+      tile.positions.emplace_back(float(g.x * field.spacingX - tile.origin.x), float(g.y * field.spacingY - tile.origin.y),
+                                  field.at(g.x, g.y));
+      tile.normals.push_back(terrain::sampleNormal(field, g.x, g.y));
+    }
+  }
+  // Non-empty tiles first, so the caller gets one span.
+  std::partition(s.dikeTiles.begin(), s.dikeTiles.end(), [](const MeshData& tile) { return !tile.indices.empty(); });
+  std::size_t usedTiles = 0;
+  while (usedTiles < s.dikeTiles.size() && !s.dikeTiles[usedTiles].indices.empty()) ++usedTiles;
+  return TerrainFrameMeshes{std::span<const MeshData>(s.blockMeshes.data(), s.frame.blocks.size()),
+                            std::span<const MeshData>(s.dikeTiles.data(), usedTiles)};
+}
+
+terrain::WatertightReport TerrainEngine::checkWatertight() const {
+  return m_impl->dikes.checkWatertight();
+}
+
+const terrain::Heightfield& TerrainEngine::field() const { return *m_impl->field; }
+const terrain::BlockLayout& TerrainEngine::layout() const { return m_impl->layout; }
+const TerrainEngineOptions& TerrainEngine::options() const { return m_impl->options; }
+
+void TerrainEngine::setOptions(const TerrainEngineOptions& options) {
+  Impl& s = *m_impl;
+  s.options.tauPx = options.tauPx > 0.0 ? options.tauPx : s.options.tauPx;
+  s.options.mode = options.mode;
+  s.options.budgetTriangles = options.budgetTriangles;
+  s.options.alpha = options.alpha > 0.0 ? options.alpha : s.options.alpha;
+  s.options.cacheEnabled = options.cacheEnabled;
+  s.meshes.setEnabled(options.cacheEnabled);
+}
+
+}  // namespace polder

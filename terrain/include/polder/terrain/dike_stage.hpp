@@ -1,0 +1,46 @@
+// The dike step of a frame: stitches the gap network of the whole cut (terrain/dikes.hpp)
+// and keeps, for drawing, the dike triangles that touch a visible block.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <polder/terrain/block_quadtree.hpp>
+#include <polder/terrain/dikes.hpp>
+#include <polder/terrain/watertight.hpp>
+
+namespace polder::terrain {
+
+class DikeStage {
+ public:
+  DikeStage(const Heightfield& field, const BlockLayout& layout);
+
+  // Triangulates the gaps between the meshes of the cut (cutMeshes[i] for cut[i]; null for
+  // a node without a mesh, which then counts as its corners).
+  void stitch(std::span<const SelectedNode> cut, std::span<const BlockMesh* const> cutMeshes);
+
+  const DikeMesh& mesh() const { return m_mesh; }
+  // Triangles (indices into mesh().vertices) with a vertex on a visible block's side.
+  std::span<const std::uint32_t> visibleIndices() const { return m_visibleIndices; }
+  std::size_t visibleTriangleCount() const { return m_visibleIndices.size() / 3; }
+  // Per vertex of mesh(): the index in the cut of the node whose side it is on, or kNoNode for
+  // a DEM-border sample.
+  static constexpr std::uint32_t kNoNode = 0xffffffffu;
+  std::span<const std::uint32_t> vertexNodes() const { return m_vertexNode; }
+
+  // Checks the last stitched frame, blocks and dikes together (allocates: not for the frame path).
+  WatertightReport checkWatertight() const;
+
+ private:
+  const Heightfield& m_field;
+  BlockLayout m_layout;
+  std::vector<DikeBlock> m_blocks;
+  DikeMesh m_mesh;
+  DikeScratch m_scratch;
+  std::vector<std::uint32_t> m_vertexNode;
+  std::vector<std::uint32_t> m_visibleIndices;
+  bool m_failed = false;
+};
+
+}  // namespace polder::terrain

@@ -1,0 +1,62 @@
+#include <polder/terrain/dike_stage.hpp>
+
+#include <cassert>
+
+namespace polder::terrain {
+
+DikeStage::DikeStage(const Heightfield& field, const BlockLayout& layout)
+    : m_field(field), m_layout(layout) {
+  const std::size_t maxNodes = std::size_t(layout.nodesX(0)) * std::size_t(layout.nodesY(0));
+  m_blocks.reserve(maxNodes);
+  m_mesh.reserve(layout, maxNodes);
+  m_scratch.reserve(layout, maxNodes);
+  m_vertexNode.reserve(dikeVertexBound(layout, maxNodes));
+  m_visibleIndices.reserve(3 * dikeTriangleBound(layout, maxNodes));
+}
+
+void DikeStage::stitch(std::span<const SelectedNode> cut, std::span<const BlockMesh* const> cutMeshes) {
+  assert(cut.size() == cutMeshes.size() && "DikeStage::stitch: one mesh per node of the cut");
+  m_blocks.clear();
+  for (std::size_t i = 0; i < cut.size(); ++i) m_blocks.push_back(DikeBlock{cut[i].node, cutMeshes[i]});
+  m_visibleIndices.clear();
+  // The cut comes from the quadtree, so a failure here is a programming error upstream; the
+  // frame then simply has no dikes rather than a crash.
+  m_failed = !buildDikes(m_layout, m_blocks, m_mesh, m_scratch).ok();
+  if (m_failed) {
+    m_mesh.clear();
+    return;
+  }
+
+  // The output lists every node's boundary vertices, node by node in cut order (corners only
+  // for a node without a mesh), then the DEM-border samples.
+  m_vertexNode.assign(m_mesh.vertices.size(), kNoNode);
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < cut.size(); ++i) {
+    std::size_t count = 4;
+    if (const BlockMesh* mesh = cutMeshes[i]) {
+      count = 0;
+      for (const auto& side : mesh->edges) count += side.size();
+      count -= 4;  // each corner sits on two sides
+    }
+    for (std::size_t v = next; v < next + count && v < m_vertexNode.size(); ++v) m_vertexNode[v] = std::uint32_t(i);
+    next += count;
+  }
+  auto visible = [&](std::uint32_t v) { return m_vertexNode[v] != kNoNode && cut[m_vertexNode[v]].visible; };
+  for (std::size_t t = 0; t + 2 < m_mesh.indices.size(); t += 3) {
+    const std::uint32_t a = m_mesh.indices[t], b = m_mesh.indices[t + 1], c = m_mesh.indices[t + 2];
+    if (visible(a) || visible(b) || visible(c))
+      m_visibleIndices.insert(m_visibleIndices.end(), {a, b, c});
+  }
+}
+
+WatertightReport DikeStage::checkWatertight() const {
+  TriangleSoup soup;
+  for (const DikeBlock& block : m_blocks)
+    if (block.mesh) soup.addBlock(*block.mesh);
+  soup.addDikes(m_mesh);
+  WatertightReport report = terrain::checkWatertight(soup, m_layout.width(), m_layout.height());
+  if (m_failed) ++report.openEdges;  // no dikes at all: count the frame as broken
+  return report;
+}
+
+}  // namespace polder::terrain
