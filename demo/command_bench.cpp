@@ -1,11 +1,13 @@
 // polder bench DEM: a recorded flight, headless; prints a table and writes the JSON report
 // (keys fixed by the issue that asked for it; later tools read them).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -51,9 +53,11 @@ struct BenchArguments {
 
 // What one pass over the path measured, frame by frame.
 struct PassResult {
-  std::vector<double> selectMs, lodMs, dikesMs, totalMs, renderMs;
+  std::vector<double> selectMs, lodMs, dikesMs, piecesMs, totalMs, renderMs, uploadBytes;
   std::vector<double> triangles, dikeTriangles, visible, culled;
   std::uint64_t lookups = 0, hits = 0, rebuilds = 0;
+  std::uint64_t piecesCreated = 0, piecesChanged = 0, piecesRetired = 0;
+  double pieceBytes = 0.0;  // vertex and index bytes the created and changed pieces carry
   double errorMax = 0.0, errorP99 = 0.0;
   int framesMeasured = 0;
   int framesChecked = 0;
@@ -90,6 +94,8 @@ Result<CameraPath> makePath(const BenchArguments& arguments, const terrain::Heig
 PassResult runPass(TerrainEngine& engine, const CameraPath& path, const Camera& lens, const BenchArguments& arguments,
                    const query::QueryScene* truth, HeadlessRenderer* headless, const TerrainStyle& style, bool progressBar) {
   PassResult result;
+  std::optional<TerrainDrawer> drawer;
+  if (headless) drawer.emplace(*headless->renderer);
   const double frameTimeS = 1.0 / 60.0;
   std::vector<double> errorMaxima, errorP99s;
   std::optional<ProgressBar> progress;
@@ -105,7 +111,12 @@ PassResult runPass(TerrainEngine& engine, const CameraPath& path, const Camera& 
     result.selectMs.push_back(stats.selectMs);
     result.lodMs.push_back(stats.lodMs);
     result.dikesMs.push_back(stats.dikesMs);
+    result.piecesMs.push_back(stats.piecesMs);
     result.totalMs.push_back(stats.totalMs);
+    result.piecesCreated += stats.piecesCreated;
+    result.piecesChanged += stats.piecesChanged;
+    result.piecesRetired += stats.piecesRetired;
+    result.pieceBytes += double(stats.pieceBytesProduced);
     result.triangles.push_back(double(stats.triangles()));
     result.dikeTriangles.push_back(double(stats.dikeTriangles));
     result.visible.push_back(double(stats.visibleBlocks));
@@ -118,36 +129,44 @@ PassResult runPass(TerrainEngine& engine, const CameraPath& path, const Camera& 
     result.dikeTrianglesOverTauMax = std::max(result.dikeTrianglesOverTauMax, stats.dikeTrianglesOverTau);
 
     const bool measure = truth && arguments.measureEvery > 0 && frameIndex % arguments.measureEvery == 0;
-    if (headless || measure) {
-      const TerrainFrameMeshes meshes = engine.frameMeshes();
-      if (headless) {
-        const auto start = std::chrono::steady_clock::now();
-        headless->renderer->beginFrame(camera, style);
-        drawTerrainMeshes(*headless->renderer, meshes);
-        (void)headless->renderer->endFrame();
-        headless->renderer->finish();
-        result.renderMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    if (headless) {
+      // Render time counts the uploads of the frame's new and changed pieces, and waits for
+      // the rasteriser to finish.
+      const auto start = std::chrono::steady_clock::now();
+      (void)drawer->sync(frame);
+      headless->renderer->beginFrame(camera, style);
+      drawer->draw(frame);
+      (void)headless->renderer->endFrame();
+      headless->renderer->finish();
+      result.renderMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+      result.uploadBytes.push_back(double(drawer->stats().uploadedBytes));
+    }
+    if (measure) {
+      const std::span<const MeshData> meshes = engine.frameMeshes();
+      if (auto lodScene = query::QueryScene::createFromMeshes(meshes)) {
+        const query::ScreenError error = query::measureScreenError(**lodScene, *truth, camera);
+        errorMaxima.push_back(error.maxPx);
+        errorP99s.push_back(error.p99Px);
+        ++result.framesMeasured;
       }
-      if (measure) {
-        std::vector<MeshData> surface(meshes.blocks.begin(), meshes.blocks.end());
-        surface.insert(surface.end(), meshes.dikes.begin(), meshes.dikes.end());
-        if (auto lodScene = query::QueryScene::createFromMeshes(surface)) {
-          const query::ScreenError error = query::measureScreenError(**lodScene, *truth, camera);
-          errorMaxima.push_back(error.maxPx);
-          errorP99s.push_back(error.p99Px);
-          ++result.framesMeasured;
-        }
-        const terrain::WatertightReport report = engine.checkWatertight();
-        result.openEdges += report.openEdges;
-        result.tJunctions += report.tJunctions;
-        ++result.framesChecked;
-      }
+      const terrain::WatertightReport report = engine.checkWatertight();
+      result.openEdges += report.openEdges;
+      result.tJunctions += report.tJunctions;
+      ++result.framesChecked;
     }
     if (progress) progress->update(float(frameIndex + 1) / float(arguments.frames));
   }
   for (double e : errorMaxima) result.errorMax = std::max(result.errorMax, e);
   for (double e : errorP99s) result.errorP99 = std::max(result.errorP99, e);
   return result;
+}
+
+// Median over the frames of (pieces ms) / (the rest of update()'s ms).
+double hostDataRatio(const PassResult& pass) {
+  std::vector<double> ratios;
+  for (std::size_t i = 0; i < pass.piecesMs.size(); ++i)
+    ratios.push_back(pass.piecesMs[i] / std::max(pass.totalMs[i] - pass.piecesMs[i], 1e-9));
+  return percentiles(ratios).median;
 }
 
 double sum(const std::vector<double>& values) {
@@ -286,8 +305,24 @@ int runBench(BenchArguments arguments) {
        {{"select", percentileJson(cached.selectMs)},
         {"lod", percentileJson(cached.lodMs)},
         {"dikes", percentileJson(cached.dikesMs)},
+        {"pieces", percentileJson(cached.piecesMs)},
         {"total", percentileJson(cached.totalMs)}}},
+      // Host-ready vertex data (what replaces rebuilding every visible block's world mesh per
+      // frame): its cost against the rest of update(), frame by frame.
+      {"pieces",
+       {{"created", cached.piecesCreated},
+        {"changed", cached.piecesChanged},
+        {"retired", cached.piecesRetired},
+        {"bytes_per_frame_mean", cached.pieceBytes / std::max(1, arguments.frames)},
+        {"host_data_ratio", hostDataRatio(cached)}}},
       {"render_ms", cached.renderMs.empty() ? nlohmann::json(nullptr) : percentileJson(cached.renderMs)},
+      {"upload_bytes_per_frame",
+       cached.uploadBytes.empty()
+           ? nlohmann::json(nullptr)
+           : nlohmann::json{{"mean", mean(cached.uploadBytes)},
+                            {"median", percentiles(cached.uploadBytes).median},
+                            {"p99", percentiles(cached.uploadBytes).p99},
+                            {"zero_frames", std::count(cached.uploadBytes.begin(), cached.uploadBytes.end(), 0.0)}}},
       {"screen_error_px",
        {{"tau", arguments.tauPx}, {"max", cached.errorMax}, {"p99", cached.errorP99}, {"frames_measured", cached.framesMeasured}}},
       {"watertight",
@@ -321,9 +356,15 @@ int runBench(BenchArguments arguments) {
   std::printf("%-34s %.3f median, %.3f p99 (select %.3f, lod %.3f, dikes %.3f)\n", "cpu ms per frame", total.median,
               total.p99, percentiles(cached.selectMs).median, percentiles(cached.lodMs).median,
               percentiles(cached.dikesMs).median);
-  if (!cached.renderMs.empty())
+  std::printf("%-34s %.3f ms median, x%.2f of the rest of the frame; %.0f KB per frame\n", "host data (pieces)",
+              percentiles(cached.piecesMs).median, hostDataRatio(cached), cached.pieceBytes / 1024.0 / std::max(1, arguments.frames));
+  if (!cached.renderMs.empty()) {
     std::printf("%-34s %.1f median, %.1f p99\n", "render ms per frame (OSMesa)", percentiles(cached.renderMs).median,
                 percentiles(cached.renderMs).p99);
+    std::printf("%-34s %.0f KB mean, %.0f KB median; %lld of %d frames upload nothing\n", "uploaded per frame",
+                mean(cached.uploadBytes) / 1024.0, percentiles(cached.uploadBytes).median / 1024.0,
+                static_cast<long long>(std::count(cached.uploadBytes.begin(), cached.uploadBytes.end(), 0.0)), arguments.frames);
+  }
   std::printf("%-34s %.1f%% reused, %llu rebuilds\n", "LOD cache", 100.0 * report["lod_cache"]["reuse_rate"].get<double>(),
               static_cast<unsigned long long>(cached.rebuilds));
   std::printf("%-34s max %.3f px, p99 %.3f px over %d frames (tau %.2f)\n", "measured screen-space error",

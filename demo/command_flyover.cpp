@@ -66,26 +66,32 @@ class FlightDrawing {
     auto engine = TerrainEngine::create(field, options);
     if (!engine) return engine.error();
     drawing.m_engine = std::move(*engine);
+    drawing.m_drawer = std::make_unique<TerrainDrawer>(renderer);
     return drawing;
   }
 
-  // Draws between beginFrame and endFrame; returns the triangles drawn.
-  std::size_t draw(render::Renderer& renderer, const Camera& camera) {
-    if (m_fullResolution) {
-      m_fullResolution->draw(renderer);
-      return m_fullResolution->triangleCount();
-    }
-    const TerrainFrame& frame = m_engine->update(camera);
-    drawLodFrame(renderer, frame, m_engine->frameMeshes(), m_debug);
-    return frame.stats.triangles();
+  // Before the renderer's frame: the LOD frame for `camera`, its pieces brought to the GPU.
+  // Returns the triangles the frame draws.
+  std::size_t prepare(const Camera& camera) {
+    if (m_fullResolution) return m_fullResolution->triangleCount();
+    m_frame = &m_engine->update(camera);
+    (void)m_drawer->sync(*m_frame);  // a piece the GPU refused stays undrawn; the flight goes on
+    return m_frame->stats.triangles();
+  }
+  // Between beginFrame and endFrame.
+  void draw(render::Renderer& renderer) {
+    if (m_fullResolution) return m_fullResolution->draw(renderer);
+    m_drawer->draw(*m_frame, m_debug);
   }
 
-  DebugView debug() const { return m_debug; }
+  TerrainDebugView debug() const { return m_debug; }
 
  private:
   std::unique_ptr<TerrainEngine> m_engine;
+  std::unique_ptr<TerrainDrawer> m_drawer;  // holds the engine's pieces on the GPU
+  const TerrainFrame* m_frame = nullptr;
   std::optional<TerrainMeshes> m_fullResolution;
-  DebugView m_debug = DebugView::None;
+  TerrainDebugView m_debug = TerrainDebugView::None;
 };
 
 Result<Flight> prepareFlight(const FlyoverArguments& arguments) {
@@ -96,7 +102,7 @@ Result<Flight> prepareFlight(const FlyoverArguments& arguments) {
   const query::QueryScene& surface = **scene;
   auto ground = [&surface](double x, double y) { return surface.height(x, y).value_or(0.0); };
   CameraPath path = makeFlyoverLoop(dem->field.extentX(), dem->field.extentY(), ground, arguments.flight);
-  const TerrainStyle style = makeTerrainStyle(*dem);
+  const TerrainStyle style = defaultTerrainStyle(dem->field);
   return Flight{std::make_shared<const terrain::Heightfield>(std::move(dem->field)), std::move(dem->info),
                 std::move(*scene), std::move(path), style};
 }
@@ -122,7 +128,7 @@ int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) 
   auto drawing = FlightDrawing::create(renderer, flight.field, arguments);
   if (!drawing) return reportError(drawing.error());
   TerrainStyle style = flight.style;
-  style.wireframe = drawing->debug() == DebugView::Wire;
+  style.wireframe = drawing->debug() == TerrainDebugView::Wire;
 
   const double step = arguments.fps > 0.0 ? 1.0 / arguments.fps : flight.path.durationS() / arguments.frames;
   RgbaImage image;
@@ -132,8 +138,9 @@ int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) 
   for (int frame = 0; frame < arguments.frames; ++frame) {
     const Camera camera = cameraAt(flight.path.at(frame * step), lens);
     const auto start = std::chrono::steady_clock::now();
+    triangles += drawing->prepare(camera);
     renderer.beginFrame(camera, style);
-    triangles += drawing->draw(renderer, camera);
+    drawing->draw(renderer);
     if (Status done = renderer.endFrame(); !done) return reportError(done.error());
     if (Status read = renderer.readPixels(image); !read) return reportError(read.error());
     renderSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -171,7 +178,7 @@ int runWindow(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
   auto drawing = FlightDrawing::create(**renderer, flight.field, arguments);
   if (!drawing) return reportError(drawing.error());
   TerrainStyle style = flight.style;
-  style.wireframe = drawing->debug() == DebugView::Wire;
+  style.wireframe = drawing->debug() == TerrainDebugView::Wire;
 
   using Key = platform::Key;
   bool autopilot = true;
@@ -215,8 +222,9 @@ int runWindow(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
     if (size.x <= 0 || size.y <= 0) continue;  // minimised
     camera.widthPx = size.x;
     camera.heightPx = size.y;
+    const std::size_t triangles = drawing->prepare(camera);
     (*renderer)->beginFrame(camera, style);
-    const std::size_t triangles = drawing->draw(**renderer, camera);
+    drawing->draw(**renderer);
     if (Status done = (*renderer)->endFrame(); !done) return reportError(done.error());
     (*window)->swapBuffers();
     char title[160];

@@ -34,17 +34,17 @@ int runRender(RenderArguments arguments) {
   if (!camera) return reportError(camera.error());
   auto debug = parseDebugView(arguments.debug);
   if (!debug) return reportError(debug.error());
-  if (*debug == DebugView::Wire) arguments.wireframe = true;
+  if (*debug == TerrainDebugView::Wire) arguments.wireframe = true;
   if (arguments.reference && (arguments.wireframe || arguments.tauPx))
     return reportError(makeError(ErrorKind::InvalidArgument, "--wire and --tau draw meshes; the --reference ray caster has none"));
-  if ((*debug == DebugView::Lod || *debug == DebugView::Dikes) && !arguments.tauPx)
+  if ((*debug == TerrainDebugView::Lod || *debug == TerrainDebugView::Dikes) && !arguments.tauPx)
     return reportError(makeError(ErrorKind::InvalidArgument, "--debug lod|dikes colours the LOD mesh: give --tau too"));
   if (arguments.tauPx && !(*arguments.tauPx > 0.0 && std::isfinite(*arguments.tauPx)))
     return reportError(makeError(ErrorKind::InvalidArgument, "--tau must be a positive number of pixels"));
   auto dem = loadDem(arguments.dem);
   if (!dem) return reportError(dem.error());
   fitClipPlanes(*camera, dem->field);
-  TerrainStyle style = makeTerrainStyle(*dem);
+  TerrainStyle style = defaultTerrainStyle(dem->field);
   style.wireframe = arguments.wireframe;
 
   const auto start = std::chrono::steady_clock::now();
@@ -65,8 +65,10 @@ int runRender(RenderArguments arguments) {
       auto engine = TerrainEngine::create(std::make_shared<terrain::Heightfield>(std::move(dem->field)), options);
       if (!engine) return reportError(engine.error());
       const TerrainFrame& frame = (*engine)->update(*camera);
+      TerrainDrawer drawer(renderer);
+      if (Status synced = drawer.sync(frame); !synced) return reportError(synced.error());
       renderer.beginFrame(*camera, style);
-      drawLodFrame(renderer, frame, (*engine)->frameMeshes(), *debug);
+      drawer.draw(frame, *debug);
       triangles = frame.stats.triangles();
     } else {
       auto meshes = TerrainMeshes::upload(renderer, dem->field);

@@ -33,9 +33,13 @@ struct SceneArguments {
   bool window = false;
 };
 
-void drawScene(render::Renderer& renderer, scene::Scene& scene, const Camera& camera, const TerrainStyle& style) {
+// Draws the scene's last frame: the terrain's pieces through `drawer`, the objects streamed.
+void drawScene(render::Renderer& renderer, TerrainDrawer& drawer, scene::Scene& scene, const Camera& camera,
+               const TerrainStyle& style) {
+  const TerrainEngine* terrain = scene.terrain();
+  if (terrain) (void)drawer.sync(terrain->frame());  // a piece the GPU refused stays undrawn
   renderer.beginFrame(camera, style);
-  if (TerrainEngine* terrain = scene.terrain()) drawTerrainMeshes(renderer, terrain->frameMeshes());
+  if (terrain) drawer.draw(terrain->frame());
   for (const DrawItem& item : scene.objectDrawItems()) (void)renderer.drawTransient(item);
 }
 
@@ -63,6 +67,8 @@ Result<SceneRun> runScene(LoadedScene& loaded, int frames, const std::string& ou
     if (!created) return created.error();
     headless = std::move(*created);
   }
+  std::optional<TerrainDrawer> drawer;
+  if (headless) drawer.emplace(*headless->renderer);
   SceneRun run;
   const bool budget = loaded.scene->options().mode == LodMode::TriangleBudget;
   const std::uint64_t budgetTriangles = loaded.scene->options().budgetTriangles;
@@ -83,7 +89,7 @@ Result<SceneRun> runScene(LoadedScene& loaded, int frames, const std::string& ou
     run.allocatedRegionsMax = std::max(run.allocatedRegionsMax, stats.allocatedRegions);
     run.framesWithinBudget += budget && stats.triangles() <= budgetTriangles && stats.triangles() >= budgetTriangles * 9 / 10;
     if (headless && index % every == 0) {
-      drawScene(*headless->renderer, *loaded.scene, camera, loaded.style);
+      drawScene(*headless->renderer, *drawer, *loaded.scene, camera, loaded.style);
       if (Status s = headless->renderer->endFrame(); !s) return s.error();
       if (Status s = headless->renderer->readPixels(image); !s) return s.error();
       makeOpaque(image);
@@ -147,6 +153,7 @@ int runSceneWindow(LoadedScene& loaded, std::optional<int> frames) {
   if (!window) return reportError(window.error());
   auto renderer = render::Renderer::create(&platform::GlfwWindow::getProcAddress);
   if (!renderer) return reportError(renderer.error());
+  TerrainDrawer drawer(**renderer);
   const auto start = std::chrono::steady_clock::now();
   for (int frame = 0; !(*window)->shouldClose() && (!frames || frame < *frames); ++frame) {
     (*window)->pollEvents();
@@ -158,7 +165,7 @@ int runSceneWindow(LoadedScene& loaded, std::optional<int> frames) {
     camera.widthPx = size.x;
     camera.heightPx = size.y;
     const scene::SceneStats& stats = loaded.scene->update(camera, timeS);
-    drawScene(**renderer, *loaded.scene, camera, loaded.style);
+    drawScene(**renderer, drawer, *loaded.scene, camera, loaded.style);
     if (Status done = (*renderer)->endFrame(); !done) return reportError(done.error());
     (*window)->swapBuffers();
     char title[160];

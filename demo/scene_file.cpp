@@ -11,6 +11,7 @@
 #include <polder/mesh/collapse_builder.hpp>
 #include <polder/mesh/progressive_mesh_build.hpp>
 #include <polder/mesh_io/mesh_file.hpp>
+#include <polder/terrain_drawer.hpp>
 #include <polder/scene/heightfield_mesh.hpp>
 #include <polder/terrain/heightfield_crop.hpp>
 
@@ -380,7 +381,7 @@ Result<LoadedScene> loadSceneFile(const std::filesystem::path& file) {
     loaded.lens.nearM = std::max(0.05, extent * 1e-5);
     loaded.lens.farM = extent * 4.0;
     if (loaded.terrain) {
-      loaded.style = makeTerrainStyle(*loaded.terrain);
+      loaded.style = defaultTerrainStyle(*loaded.terrain);
     } else {  // objects alone: the ramp's top colour, their tints show as they are
       loaded.style.minHeightM = 0.0f;
       loaded.style.maxHeightM = 1.0f;

@@ -1,5 +1,6 @@
-// Drawing a DEM at full resolution in the demo program: the style it is shaded with, its
-// meshes on the GPU, and a headless (OSMesa) renderer to draw them with.
+// Drawing in the demo program: a DEM's full-resolution meshes on the GPU, the debug views,
+// and a headless (OSMesa) renderer to draw with. LOD frames draw through TerrainDrawer
+// (polder/terrain_drawer.hpp).
 #pragma once
 
 #include <memory>
@@ -9,15 +10,11 @@
 #include <polder/platform/osmesa_context.hpp>
 #include <polder/render/renderer.hpp>
 #include <polder/terrain/dem.hpp>
+#include <polder/terrain_drawer.hpp>
 #include <polder/terrain_engine.hpp>
 #include <polder/terrain_style.hpp>
 
 namespace polder::cli {
-
-// The elevation ramp spans the DEM's height range; fog half-hides terrain at about 60% of
-// the DEM's diagonal.
-TerrainStyle makeTerrainStyle(const terrain::Dem& dem);
-TerrainStyle makeTerrainStyle(const terrain::Heightfield& field);
 
 // The full-resolution triangulation of a heightfield, uploaded once in chunks.
 class TerrainMeshes {
@@ -34,15 +31,8 @@ class TerrainMeshes {
 // Alpha carries the terrain/sky mask while rendering; pictures for people are opaque.
 void makeOpaque(RgbaImage& image);
 
-// Debug colouring of LOD frames (`--debug`).
-enum class DebugView { None, Lod, Dikes, Wire };
-Result<DebugView> parseDebugView(const std::string& text);
-
-// Draws a LOD frame's blocks and dikes in the terrain's own colours.
-void drawTerrainMeshes(render::Renderer& renderer, const TerrainFrameMeshes& meshes);
-
-// Draws a LOD frame: its blocks and its dikes, coloured per `debug`.
-void drawLodFrame(render::Renderer& renderer, const TerrainFrame& frame, const TerrainFrameMeshes& meshes, DebugView debug);
+// `--debug`: none, lod, dikes or wire.
+Result<TerrainDebugView> parseDebugView(const std::string& text);
 
 // An offscreen OpenGL context with a renderer in it.
 struct HeadlessRenderer {

@@ -194,6 +194,7 @@ const BlockMesh& LodCache::acquireCount(NodeId node, const BlockLod& lod, std::s
 
 void LodCache::finishBuild(std::uint32_t index, LodOutcome outcome) {
   Slot& slot = *m_slots[index];
+  slot.mesh.revision = ++m_builds;
   const std::size_t bytes = meshBytes(slot.mesh);
   m_bytes = m_bytes - slot.bytes + bytes;
   slot.bytes = bytes;

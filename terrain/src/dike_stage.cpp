@@ -12,6 +12,7 @@ DikeStage::DikeStage(const Heightfield& field, const BlockLayout& layout)
   m_scratch.reserve(layout, maxNodes);
   m_vertexNode.reserve(dikeVertexBound(layout, maxNodes));
   m_visibleIndices.reserve(3 * dikeTriangleBound(layout, maxNodes));
+  m_visibleOwners.reserve(dikeTriangleBound(layout, maxNodes));
 }
 
 void DikeStage::stitch(std::span<const SelectedNode> cut, std::span<const BlockMesh* const> cutMeshes) {
@@ -19,6 +20,7 @@ void DikeStage::stitch(std::span<const SelectedNode> cut, std::span<const BlockM
   m_blocks.clear();
   for (std::size_t i = 0; i < cut.size(); ++i) m_blocks.push_back(DikeBlock{cut[i].node, cutMeshes[i]});
   m_visibleIndices.clear();
+  m_visibleOwners.clear();
   // The cut comes from the quadtree, so a failure here is a programming error upstream; the
   // frame then simply has no dikes rather than a crash.
   m_failed = !buildDikes(m_layout, m_blocks, m_mesh, m_scratch).ok();
@@ -44,8 +46,10 @@ void DikeStage::stitch(std::span<const SelectedNode> cut, std::span<const BlockM
   auto visible = [&](std::uint32_t v) { return m_vertexNode[v] != kNoNode && cut[m_vertexNode[v]].visible; };
   for (std::size_t t = 0; t + 2 < m_mesh.indices.size(); t += 3) {
     const std::uint32_t a = m_mesh.indices[t], b = m_mesh.indices[t + 1], c = m_mesh.indices[t + 2];
-    if (visible(a) || visible(b) || visible(c))
+    if (visible(a) || visible(b) || visible(c)) {
       m_visibleIndices.insert(m_visibleIndices.end(), {a, b, c});
+      m_visibleOwners.push_back(m_mesh.owners[t / 3]);
+    }
   }
 }
 

@@ -29,7 +29,9 @@ struct Vertex {
 static_assert(sizeof(Vertex) == 24);
 
 struct Uniforms {
-  GLint modelView = -1;
+  GLint modelView = -1;   // world-origin meshes
+  GLint gridOffset = -1;  // grid meshes
+  GLint gridToEye = -1;
   GLint projection = -1;
   GLint originHeight = -1;
   GLint ramp = -1;
@@ -48,6 +50,9 @@ struct GpuMesh {
   GlObject vertexBuffer;
   GlObject indexBuffer;
   glm::dvec3 origin{0.0};  // positions on the GPU stay relative to it
+  bool grid = false;       // a grid mesh (polder/grid_mesh.hpp): anchor and spacing instead
+  GridAnchor anchor;
+  GridSpacing spacing;
   GLsizei indexCount = 0;
   std::size_t bytes = 0;
   std::uint32_t generation = 1;
@@ -110,6 +115,72 @@ void setVertexLayout(const GladGLContext& gl) {
                          reinterpret_cast<const void*>(offsetof(Vertex, normal)));
 }
 
+// Attribute layout of a grid mesh's VAO (GridMeshVertex as it is in memory).
+void setGridVertexLayout(const GladGLContext& gl) {
+  gl.EnableVertexAttribArray(0);
+  gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(GridMeshVertex),
+                         reinterpret_cast<const void*>(offsetof(GridMeshVertex, x)));
+  gl.EnableVertexAttribArray(1);
+  gl.VertexAttribPointer(1, 3, GL_BYTE, GL_TRUE, sizeof(GridMeshVertex),
+                         reinterpret_cast<const void*>(offsetof(GridMeshVertex, nx)));
+}
+
+Uniforms uniformsOf(const GladGLContext& gl, GLuint id) {
+  Uniforms u;
+  u.modelView = gl.GetUniformLocation(id, "u_modelView");
+  u.gridOffset = gl.GetUniformLocation(id, "u_gridOffset");
+  u.gridToEye = gl.GetUniformLocation(id, "u_gridToEye");
+  u.projection = gl.GetUniformLocation(id, "u_projection");
+  u.originHeight = gl.GetUniformLocation(id, "u_originHeight");
+  u.ramp = gl.GetUniformLocation(id, "u_ramp");
+  u.minHeight = gl.GetUniformLocation(id, "u_minHeight");
+  u.maxHeight = gl.GetUniformLocation(id, "u_maxHeight");
+  u.sunDirection = gl.GetUniformLocation(id, "u_sunDirection");
+  u.ambient = gl.GetUniformLocation(id, "u_ambient");
+  u.fogColour = gl.GetUniformLocation(id, "u_fogColour");
+  u.fogDensity = gl.GetUniformLocation(id, "u_fogDensity");
+  u.tint = gl.GetUniformLocation(id, "u_tint");
+  u.shade = gl.GetUniformLocation(id, "u_shade");
+  return u;
+}
+
+// The frame's camera, projection and style, for one program.
+void setFrameUniforms(const GladGLContext& gl, GLuint program, const Uniforms& u, const glm::mat4& projection,
+                      const TerrainStyle& style) {
+  gl.UseProgram(program);
+  gl.UniformMatrix4fv(u.projection, 1, GL_FALSE, glm::value_ptr(projection));
+  gl.Uniform3fv(u.ramp, GLsizei(style.ramp.size()), glm::value_ptr(style.ramp[0]));
+  gl.Uniform1f(u.minHeight, style.minHeightM);
+  gl.Uniform1f(u.maxHeight, style.maxHeightM);
+  gl.Uniform3fv(u.sunDirection, 1, glm::value_ptr(style.sunDirection));
+  gl.Uniform1f(u.ambient, style.ambient);
+  gl.Uniform3fv(u.fogColour, 1, glm::value_ptr(style.fogColour));
+  gl.Uniform1f(u.fogDensity, style.fogDensity);
+  gl.Uniform1f(u.shade, 1.0f);
+}
+
+// Validation of a grid mesh, as validate() for world-origin ones.
+Status validateGrid(const GridMeshView& mesh) {
+  if (mesh.indices.size() % 3 != 0) {
+    return makeError(ErrorKind::InvalidArgument, "Renderer::upload: " + std::to_string(mesh.indices.size()) +
+                                                     " indices is not a whole number of triangles");
+  }
+  for (const std::uint32_t index : mesh.indices) {
+    if (std::size_t(index) >= mesh.vertices.size()) {
+      return makeError(ErrorKind::InvalidArgument, "Renderer::upload: index " + std::to_string(index) +
+                                                       " is out of range for " + std::to_string(mesh.vertices.size()) +
+                                                       " grid vertices");
+    }
+  }
+  if (mesh.vertices.size() > std::size_t(INT32_MAX) || mesh.indices.size() > std::size_t(INT32_MAX)) {
+    return makeError(ErrorKind::InvalidArgument, "Renderer::upload: mesh too large for one draw");
+  }
+  if (!(mesh.spacing.x > 0.0) || !(mesh.spacing.y > 0.0)) {
+    return makeError(ErrorKind::InvalidArgument, "Renderer::upload: a grid mesh needs a positive spacing");
+  }
+  return {};
+}
+
 GLADapiproc loadThrough(void* loader, const char* name) {
   return (*static_cast<const GlProcLoader*>(loader))(name);
 }
@@ -128,6 +199,9 @@ struct Renderer::Impl {
   std::string description;
   GlObject program;
   Uniforms uniforms;
+  GlObject gridProgram;
+  Uniforms gridUniforms;
+  GLuint currentProgram = 0;
 
   std::vector<GpuMesh> meshes;  // slot i holds MeshHandle::slot i + 1
   std::vector<std::uint32_t> freeSlots;
@@ -147,6 +221,10 @@ struct Renderer::Impl {
   std::vector<glm::vec3> scratchNormals;  // reused, so steady-state frames do not allocate
 
   bool inFrame = false;
+  Camera camera;
+  GridSpacing gridSpacing{0.0, 0.0};  // what u_gridToEye was computed for this frame
+  GridCamera gridCamera;
+  std::uint64_t uploadedBytes = 0;
   glm::dmat4 viewRotation{1.0};
   glm::dvec3 cameraPosition{0.0};
   int frameWidth = 0;
@@ -154,6 +232,25 @@ struct Renderer::Impl {
   bool wireframe = false;
   std::size_t drawCalls = 0;
   std::size_t triangles = 0;
+
+  // Takes an uploaded mesh into a slot and counts it.
+  MeshHandle adopt(GpuMesh mesh) {
+    std::uint32_t slot = 0;
+    if (!freeSlots.empty()) {
+      slot = freeSlots.back();
+      freeSlots.pop_back();
+      mesh.generation = meshes[slot].generation + 1;
+    } else {
+      slot = std::uint32_t(meshes.size());
+      meshes.emplace_back();
+    }
+    mesh.live = true;
+    meshCount += 1;
+    meshBytes += mesh.bytes;
+    uploadedBytes += mesh.bytes;
+    meshes[slot] = std::move(mesh);
+    return MeshHandle{slot + 1, meshes[slot].generation};
+  }
 
   std::span<const glm::vec3> normalsOf(const DrawItem& item) {
     if (!item.normals.empty()) return item.normals;
@@ -191,10 +288,37 @@ struct Renderer::Impl {
     modelView[3] = viewRotation * glm::dvec4(offset, 1.0);
     const glm::mat4 modelViewF(modelView);
 
+    use(program.id());
     gl.BindVertexArray(vertexArray);
     gl.UniformMatrix4fv(uniforms.modelView, 1, GL_FALSE, glm::value_ptr(modelViewF));
     gl.Uniform1f(uniforms.originHeight, float(origin.z));
     gl.Uniform3fv(uniforms.tint, 1, glm::value_ptr(tint));
+    submit(uniforms, indexCount, firstIndex, baseVertex);
+  }
+
+  // A grid mesh: its offset from the camera's anchor is the only per-draw position data.
+  void drawGrid(const GpuMesh& mesh, const glm::vec3& tint) {
+    use(gridProgram.id());
+    if (mesh.spacing != gridSpacing) {
+      gridSpacing = mesh.spacing;
+      gridCamera = gridCameraOf(camera.position, gridSpacing);
+      const glm::mat4 toEye(gridToEye(camera, gridCamera, gridSpacing));
+      gl.UniformMatrix4fv(gridUniforms.gridToEye, 1, GL_FALSE, glm::value_ptr(toEye));
+    }
+    const glm::vec2 offset = gridOffset(mesh.anchor, gridCamera);
+    gl.BindVertexArray(mesh.vertexArray.id());
+    gl.Uniform2fv(gridUniforms.gridOffset, 1, glm::value_ptr(offset));
+    gl.Uniform3fv(gridUniforms.tint, 1, glm::value_ptr(tint));
+    submit(gridUniforms, mesh.indexCount, 0, 0);
+  }
+
+  void use(GLuint id) {
+    if (currentProgram == id) return;
+    gl.UseProgram(id);
+    currentProgram = id;
+  }
+
+  void submit(const Uniforms& u, GLsizei indexCount, std::size_t firstIndex, GLint baseVertex) {
     const void* indexOffset = reinterpret_cast<const void*>(firstIndex * sizeof(std::uint32_t));
     gl.DrawElementsBaseVertex(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, indexOffset, baseVertex);
     ++drawCalls;
@@ -205,9 +329,9 @@ struct Renderer::Impl {
       // the depth test against their own surface.
       gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
       gl.Enable(GL_POLYGON_OFFSET_LINE);
-      gl.Uniform1f(uniforms.shade, options.wireframeBrightness);
+      gl.Uniform1f(u.shade, options.wireframeBrightness);
       gl.DrawElementsBaseVertex(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, indexOffset, baseVertex);
-      gl.Uniform1f(uniforms.shade, 1.0f);
+      gl.Uniform1f(u.shade, 1.0f);
       gl.Disable(GL_POLYGON_OFFSET_LINE);
       gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
       ++drawCalls;
@@ -245,20 +369,11 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const GlProcLoader& loader, c
   auto program = detail::compileProgram(gl, shaders::terrain_vert, shaders::terrain_frag, "terrain");
   if (!program) return program.error();
   impl->program = std::move(*program);
-  const GLuint id = impl->program.id();
-  Uniforms& u = impl->uniforms;
-  u.modelView = gl.GetUniformLocation(id, "u_modelView");
-  u.projection = gl.GetUniformLocation(id, "u_projection");
-  u.originHeight = gl.GetUniformLocation(id, "u_originHeight");
-  u.ramp = gl.GetUniformLocation(id, "u_ramp");
-  u.minHeight = gl.GetUniformLocation(id, "u_minHeight");
-  u.maxHeight = gl.GetUniformLocation(id, "u_maxHeight");
-  u.sunDirection = gl.GetUniformLocation(id, "u_sunDirection");
-  u.ambient = gl.GetUniformLocation(id, "u_ambient");
-  u.fogColour = gl.GetUniformLocation(id, "u_fogColour");
-  u.fogDensity = gl.GetUniformLocation(id, "u_fogDensity");
-  u.tint = gl.GetUniformLocation(id, "u_tint");
-  u.shade = gl.GetUniformLocation(id, "u_shade");
+  impl->uniforms = uniformsOf(gl, impl->program.id());
+  auto gridProgram = detail::compileProgram(gl, shaders::terrain_grid_vert, shaders::terrain_frag, "terrain grid");
+  if (!gridProgram) return gridProgram.error();
+  impl->gridProgram = std::move(*gridProgram);
+  impl->gridUniforms = uniformsOf(gl, impl->gridProgram.id());
 
   impl->streamArray = detail::makeVertexArray(gl);
   impl->streamVertices = detail::makeBuffer(gl);
@@ -320,20 +435,34 @@ Result<MeshHandle> Renderer::upload(const DrawItem& item) {
                                                  " bytes of vertices to the GPU");
   }
 
-  std::uint32_t slot = 0;
-  if (!r.freeSlots.empty()) {
-    slot = r.freeSlots.back();
-    r.freeSlots.pop_back();
-    mesh.generation = r.meshes[slot].generation + 1;
-  } else {
-    slot = std::uint32_t(r.meshes.size());
-    r.meshes.emplace_back();
-  }
-  mesh.live = true;
-  r.meshes[slot] = std::move(mesh);
-  ++r.meshCount;
-  r.meshBytes += r.meshes[slot].bytes;
-  return MeshHandle{slot + 1, r.meshes[slot].generation};
+  return r.adopt(std::move(mesh));
+}
+
+Result<MeshHandle> Renderer::upload(const GridMeshView& grid) {
+  if (Status status = validateGrid(grid); !status) return status.error();
+  Impl& r = *m_impl;
+  const GladGLContext& gl = r.gl;
+  GpuMesh mesh;
+  mesh.vertexArray = detail::makeVertexArray(gl);
+  mesh.vertexBuffer = detail::makeBuffer(gl);
+  mesh.indexBuffer = detail::makeBuffer(gl);
+  mesh.grid = true;
+  mesh.anchor = grid.anchor;
+  mesh.spacing = grid.spacing;
+  mesh.indexCount = GLsizei(grid.indices.size());
+  const std::size_t vertexBytes = grid.vertices.size_bytes();
+  const std::size_t indexBytes = grid.indices.size_bytes();
+  mesh.bytes = vertexBytes + indexBytes;
+
+  gl.BindVertexArray(mesh.vertexArray.id());
+  gl.BindBuffer(GL_ARRAY_BUFFER, mesh.vertexBuffer.id());
+  gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertexBytes), grid.vertices.data(), GL_STATIC_DRAW);
+  setGridVertexLayout(gl);
+  gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.indexBuffer.id());
+  gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indexBytes), grid.indices.data(), GL_STATIC_DRAW);
+  gl.BindVertexArray(0);
+  if (Status status = detail::takeGlErrors(gl, "Renderer::upload"); !status) return status.error();
+  return r.adopt(std::move(mesh));
 }
 
 void Renderer::release(MeshHandle handle) {
@@ -358,6 +487,8 @@ void Renderer::beginFrame(const Camera& camera, const TerrainStyle& style) {
   assert(!r.inFrame && "Renderer::beginFrame: the previous frame was not ended");
   assert(camera.widthPx > 0 && camera.heightPx > 0 && "Renderer::beginFrame: empty viewport");
   r.inFrame = true;
+  r.camera = camera;
+  r.gridSpacing = GridSpacing{0.0, 0.0};
   r.viewRotation = camera.viewRotation();
   r.cameraPosition = camera.position;
   r.frameWidth = camera.widthPx;
@@ -393,18 +524,10 @@ void Renderer::beginFrame(const Camera& camera, const TerrainStyle& style) {
   gl.ClearDepth(1.0);
   gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
-  const Uniforms& u = r.uniforms;
-  gl.UseProgram(r.program.id());
   const glm::mat4 projection(camera.projection());
-  gl.UniformMatrix4fv(u.projection, 1, GL_FALSE, glm::value_ptr(projection));
-  gl.Uniform3fv(u.ramp, GLsizei(style.ramp.size()), glm::value_ptr(style.ramp[0]));
-  gl.Uniform1f(u.minHeight, style.minHeightM);
-  gl.Uniform1f(u.maxHeight, style.maxHeightM);
-  gl.Uniform3fv(u.sunDirection, 1, glm::value_ptr(style.sunDirection));
-  gl.Uniform1f(u.ambient, style.ambient);
-  gl.Uniform3fv(u.fogColour, 1, glm::value_ptr(style.fogColour));
-  gl.Uniform1f(u.fogDensity, style.fogDensity);
-  gl.Uniform1f(u.shade, 1.0f);
+  setFrameUniforms(gl, r.gridProgram.id(), r.gridUniforms, projection, style);
+  setFrameUniforms(gl, r.program.id(), r.uniforms, projection, style);
+  r.currentProgram = r.program.id();
 }
 
 void Renderer::draw(MeshHandle handle, const glm::vec3& tint) {
@@ -414,6 +537,7 @@ void Renderer::draw(MeshHandle handle, const glm::vec3& tint) {
   const GpuMesh& mesh = r.meshes[handle.slot - 1];
   assert(mesh.live && mesh.generation == handle.generation && "Renderer::draw: mesh was released");
   if (!mesh.live || mesh.generation != handle.generation || mesh.indexCount == 0) return;
+  if (mesh.grid) return r.drawGrid(mesh, tint);
   r.drawIndexed(mesh.vertexArray.id(), mesh.indexCount, 0, 0, mesh.origin, tint);
 }
 
@@ -447,6 +571,7 @@ Status Renderer::drawTransient(const DrawItem& item) {
                 item.origin, item.tint);
   r.streamVertexCursor += item.positions.size();
   r.streamIndexCursor += item.indices.size();
+  r.uploadedBytes += item.positions.size() * sizeof(Vertex) + item.indices.size_bytes();
   return {};
 }
 
@@ -455,6 +580,7 @@ Status Renderer::endFrame() {
   assert(r.inFrame && "Renderer::endFrame: no frame begun");
   r.inFrame = false;
   r.gl.BindVertexArray(0);
+  r.use(r.program.id());
   return detail::takeGlErrors(r.gl, "the frame");
 }
 
@@ -493,6 +619,7 @@ RendererStats Renderer::stats() const {
   stats.transientGrowths = r.streamGrowths;
   stats.drawCalls = r.drawCalls;
   stats.triangles = r.triangles;
+  stats.uploadedBytes = r.uploadedBytes;
   return stats;
 }
 

@@ -173,6 +173,7 @@ class LodCache {
   std::size_t m_bytes = 0;
   std::uint64_t m_frame = 0;
   LodCacheCounters m_counters;
+  std::uint64_t m_builds = 0;  // numbers each build (BlockMesh::revision)
   terrain::RtinScratch m_scratch;
 };
 

@@ -13,6 +13,7 @@
 #include <polder/terrain/rtin.hpp>
 
 #include "dike_check.hpp"
+#include "terrain_pieces.hpp"
 #include <polder/terrain/dike_stage.hpp>
 
 namespace polder {
@@ -71,13 +72,14 @@ struct TerrainEngine::Impl {
   TerrainFrameStats frameStats;
   cache::LodCacheCounters countersBefore{};
   TerrainFrame frame;
-  std::vector<MeshData> blockMeshes;  // frameMeshes() storage, reused
-  std::vector<MeshData> dikeTiles;
+  TerrainPieces pieces;
+  std::vector<terrain::NodeId> cutNodes;  // parallel to cut, for the dike pieces' owners
+  std::vector<MeshData> pieceMeshes;      // frameMeshes() storage, reused
 
   Impl(std::shared_ptr<const terrain::Heightfield> f, terrain::BlockLayout l, terrain::BlockQuadtree q,
        const TerrainEngineOptions& o)
       : field(std::move(f)), layout(l), quadtree(std::move(q)), options(o),
-        meshes(cacheOptions(o)), dikes(*field, layout), dikeCheck(*field, layout) {
+        meshes(cacheOptions(o)), dikes(*field, layout), dikeCheck(*field, layout), pieces(*field, layout) {
     selectionScratch.reserve(quadtree);
     const std::size_t bound = quadtree.selectionBound();
     cut.reserve(bound);
@@ -87,6 +89,8 @@ struct TerrainEngine::Impl {
     visibleInCut.reserve(bound);
     allocationScratch.reserve(bound);
     frame.blocks.reserve(bound);
+    pieces.reserve(2 * bound);
+    cutNodes.reserve(bound);
     dikeCheck.reserve(bound);
     forcedSplits.reserve(kMaxForcedSplits);
     forcedSplitDistances.reserve(kMaxForcedSplits);
@@ -196,6 +200,19 @@ struct TerrainEngine::Impl {
       const terrain::BlockLod* lod = lodFor(cut[i].node);
       if (lod) cutMeshes[i] = &meshes.acquireCount(cut[i].node, *lod, allocation[v]);
     }
+  }
+
+  void updatePieces() {
+    pieces.beginFrame();
+    for (const TerrainBlockDraw& block : frame.blocks) pieces.addBlock(block.node, *block.mesh);
+    cutNodes.clear();
+    for (const terrain::SelectedNode& selected : cut) cutNodes.push_back(selected.node);
+    pieces.addDikes(dikes.mesh().vertices, dikes.visibleIndices(), dikes.visibleOwners(), cutNodes);
+    pieces.finishFrame();
+    frame.pieces = pieces.pieces();
+    frame.created = pieces.created();
+    frame.changed = pieces.changed();
+    frame.retired = pieces.retired();
   }
 
   std::size_t visibleBlockTriangles() const {
@@ -311,74 +328,44 @@ const TerrainFrame& TerrainEngine::finishFrame(const Camera& camera, std::uint64
   stats.cacheLookups = after.lookups - before.lookups;
   stats.cacheHits = after.hits - before.hits;
   stats.cacheRebuilds = after.rebuilds - before.rebuilds;
+
+  // 5. Emit: the frame's pieces, with host-ready data for the new and changed ones.
+  const auto piecesStart = Clock::now();
+  s.updatePieces();
+  stats.piecesMs = millisecondsSince(piecesStart);
+  stats.piecesCreated = s.frame.created.size();
+  stats.piecesChanged = s.frame.changed.size();
+  stats.piecesRetired = s.frame.retired.size();
+  stats.pieceBytesProduced = s.pieces.bytesProduced();
   stats.totalMs = millisecondsSince(s.frameStart);
   s.frame.stats = stats;
   return s.frame;
 }
 
-namespace {
-
-void clearKeepingCapacity(MeshData& mesh) {
-  mesh.positions.clear();
-  mesh.normals.clear();
-  mesh.indices.clear();
-}
-
-}  // namespace
-
-TerrainFrameMeshes TerrainEngine::frameMeshes() {
+std::span<const MeshData> TerrainEngine::frameMeshes() {
   Impl& s = *m_impl;
-  const terrain::Heightfield& field = *s.field;
-  if (s.blockMeshes.size() < s.frame.blocks.size()) s.blockMeshes.resize(s.frame.blocks.size());
-  for (std::size_t b = 0; b < s.frame.blocks.size(); ++b) {
-    const terrain::BlockMesh& block = *s.frame.blocks[b].mesh;
-    const terrain::BlockFootprint& footprint = block.footprint;
-    MeshData& mesh = s.blockMeshes[b];
-    clearKeepingCapacity(mesh);
-    mesh.origin = {footprint.x0 * field.spacingX, footprint.y0 * field.spacingY, 0.0};
-    for (const terrain::GridVertex& v : block.vertices) {
-      const int di = v.i * footprint.stride, dj = v.j * footprint.stride;
-      mesh.positions.emplace_back(float(di * field.spacingX), float(dj * field.spacingY),
-                                  field.at(footprint.x0 + di, footprint.y0 + dj));
-      mesh.normals.push_back(terrain::sampleNormal(field, footprint.x0 + di, footprint.y0 + dj));
+  const std::span<const TerrainPiece> pieces = s.frame.pieces;
+  if (s.pieceMeshes.size() < pieces.size()) s.pieceMeshes.resize(pieces.size());
+  for (std::size_t p = 0; p < pieces.size(); ++p) {
+    const GridMeshView& grid = pieces[p].mesh;
+    MeshData& mesh = s.pieceMeshes[p];
+    mesh.origin = glm::dvec3(double(grid.anchor.x) * grid.spacing.x, double(grid.anchor.y) * grid.spacing.y, 0.0);
+    mesh.positions.clear();
+    mesh.normals.clear();
+    for (const GridMeshVertex& v : grid.vertices) {
+      mesh.positions.emplace_back(float(double(v.x) * grid.spacing.x), float(double(v.y) * grid.spacing.y), v.z);
+      mesh.normals.push_back(terrain::sampleNormal(*s.field, int(grid.anchor.x) + int(v.x), int(grid.anchor.y) + int(v.y)));
     }
-    mesh.indices.assign(block.indices.begin(), block.indices.end());
+    mesh.indices.assign(grid.indices.begin(), grid.indices.end());
   }
-
-  // Dike triangles go into tiles of 8 x 8 level-0 blocks, each relative to its own corner,
-  // so the floats stay small on DEMs of any extent. Vertices are not shared between
-  // triangles: dikes are a small share of a frame and this needs no lookup table.
-  const int tileSamples = 8 * s.layout.pitch();
-  const int tilesX = (field.width + tileSamples - 1) / tileSamples;
-  const int tilesY = (field.height + tileSamples - 1) / tileSamples;
-  if (s.dikeTiles.size() != std::size_t(tilesX) * std::size_t(tilesY)) s.dikeTiles.resize(std::size_t(tilesX) * std::size_t(tilesY));
-  for (MeshData& tile : s.dikeTiles) clearKeepingCapacity(tile);
-  const TerrainDikes& dikes = s.frame.dikes;
-  for (std::size_t t = 0; t + 2 < dikes.indices.size(); t += 3) {
-    const terrain::DikeVertex first = dikes.vertices[dikes.indices[t]];
-    const int tx = std::min(first.x / tileSamples, tilesX - 1), ty = std::min(first.y / tileSamples, tilesY - 1);
-    MeshData& tile = s.dikeTiles[std::size_t(ty) * std::size_t(tilesX) + std::size_t(tx)];
-    tile.origin = {double(tx * tileSamples) * field.spacingX, double(ty * tileSamples) * field.spacingY, 0.0};
-    for (int corner = 0; corner < 3; ++corner) {
-      const terrain::DikeVertex g = dikes.vertices[dikes.indices[t + std::size_t(corner)]];
-      tile.indices.push_back(std::uint32_t(tile.positions.size()));
-      tile.positions.emplace_back(float(g.x * field.spacingX - tile.origin.x), float(g.y * field.spacingY - tile.origin.y),
-                                  field.at(g.x, g.y));
-      tile.normals.push_back(terrain::sampleNormal(field, g.x, g.y));
-    }
-  }
-  // Non-empty tiles first, so the caller gets one span.
-  std::partition(s.dikeTiles.begin(), s.dikeTiles.end(), [](const MeshData& tile) { return !tile.indices.empty(); });
-  std::size_t usedTiles = 0;
-  while (usedTiles < s.dikeTiles.size() && !s.dikeTiles[usedTiles].indices.empty()) ++usedTiles;
-  return TerrainFrameMeshes{std::span<const MeshData>(s.blockMeshes.data(), s.frame.blocks.size()),
-                            std::span<const MeshData>(s.dikeTiles.data(), usedTiles)};
+  return std::span<const MeshData>(s.pieceMeshes.data(), pieces.size());
 }
 
 terrain::WatertightReport TerrainEngine::checkWatertight() const {
   return m_impl->dikes.checkWatertight();
 }
 
+const TerrainFrame& TerrainEngine::frame() const { return m_impl->frame; }
 const terrain::Heightfield& TerrainEngine::field() const { return *m_impl->field; }
 const terrain::BlockLayout& TerrainEngine::layout() const { return m_impl->layout; }
 const TerrainEngineOptions& TerrainEngine::options() const { return m_impl->options; }

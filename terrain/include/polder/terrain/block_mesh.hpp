@@ -60,6 +60,9 @@ struct BlockMesh {
   // Largest exact vertical error (metres) of any triangle against the full-resolution
   // samples it covers.
   float maxError = 0.0f;
+  // Which build this is: the LOD cache numbers every mesh it builds, so a host can tell a
+  // rebuilt mesh from the one it already holds (0: not built by a cache). clear() keeps it.
+  std::uint64_t revision = 0;
 
   std::size_t triangleCount() const { return indices.size() / 3; }
   const std::vector<std::uint32_t>& edge(BlockEdge side) const { return edges[std::size_t(side)]; }

@@ -24,6 +24,8 @@ class DikeStage {
   // Triangles (indices into mesh().vertices) with a vertex on a visible block's side.
   std::span<const std::uint32_t> visibleIndices() const { return m_visibleIndices; }
   std::size_t visibleTriangleCount() const { return m_visibleIndices.size() / 3; }
+  // Per visible triangle: the index in the cut of its owner (DikeMesh::owners).
+  std::span<const std::uint32_t> visibleOwners() const { return m_visibleOwners; }
   // Per vertex of mesh(): the index in the cut of the node whose side it is on, or kNoNode for
   // a DEM-border sample.
   static constexpr std::uint32_t kNoNode = 0xffffffffu;
@@ -40,6 +42,7 @@ class DikeStage {
   DikeScratch m_scratch;
   std::vector<std::uint32_t> m_vertexNode;
   std::vector<std::uint32_t> m_visibleIndices;
+  std::vector<std::uint32_t> m_visibleOwners;
   bool m_failed = false;
 };
 

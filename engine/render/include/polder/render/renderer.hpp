@@ -19,6 +19,8 @@
 // Coordinates: meshes carry float positions relative to a double origin. Per draw the
 // renderer computes (origin - camera.position) in double and sends a float model-view
 // matrix, so terrain 1e7 m from the world origin draws as steadily as terrain near it.
+// Grid meshes (terrain pieces) carry integer sample offsets from an integer anchor instead,
+// and all of a frame's grid meshes go through one matrix (polder/grid_mesh.hpp).
 //
 // Shading mirrors polder::shadeTerrain (elevation ramp, Lambert + ambient, exp-squared fog by
 // eye distance) per fragment, then multiplies by the draw's tint. Terrain fragments write
@@ -39,6 +41,7 @@
 #include <glm/glm.hpp>
 
 #include <polder/camera.hpp>
+#include <polder/grid_mesh.hpp>
 #include <polder/image.hpp>
 #include <polder/mesh_data.hpp>
 #include <polder/result.hpp>
@@ -85,6 +88,7 @@ struct RendererStats {
   std::size_t transientGrowths = 0;  // times the stream grew since create()
   std::size_t drawCalls = 0;         // in the current (or last) frame, wireframe passes included
   std::size_t triangles = 0;         // in the current (or last) frame, wireframe passes excluded
+  std::uint64_t uploadedBytes = 0;   // vertex and index bytes sent since create(): uploads and streams
 };
 
 class Renderer {
@@ -105,6 +109,10 @@ class Renderer {
   // count that is neither 0 nor the position count; OutOfMemory when GL cannot hold it.
   Result<MeshHandle> upload(const MeshData& mesh);
   Result<MeshHandle> upload(const DrawItem& item);  // item.tint is ignored: tint is per draw
+  // Copies a grid mesh (polder/grid_mesh.hpp: terrain pieces) to the GPU as it is. Grid meshes
+  // of one frame that share vertices reach the rasteriser bit-identical there, so their joins
+  // have no pixel cracks. Errors as above, and InvalidArgument for a spacing that is not positive.
+  Result<MeshHandle> upload(const GridMeshView& mesh);
   // Frees the mesh's GPU memory. An invalid handle is ignored.
   void release(MeshHandle mesh);
 

@@ -1,11 +1,14 @@
 // polder::terrain_engine — one frame of terrain (docs/design.md "One frame"): select the block
 // quadtree cut, get each visible block's mesh from the LOD cache (or rebuild it), stitch
-// the dikes, and, in budget mode, split a triangle budget over the blocks first.
+// the dikes, and, in budget mode, split a triangle budget over the blocks first; then hand
+// out the frame's pieces with their lifetimes (polder/terrain_frame.hpp).
 //
 //   auto engine = TerrainEngine::create(field, options);        // preprocessing, with progress
 //   const TerrainFrame& frame = (*engine)->update(camera);      // every frame
-//   for (const auto& block : frame.blocks) ... block.mesh ...   // grid-coordinate meshes
-//   frame.dikes ...                                             // the gap network's triangles
+//   for (std::uint32_t i : frame.created) ... upload frame.pieces[i].mesh ...
+//   for (std::uint32_t i : frame.changed) ... replace frame.pieces[i].mesh ...
+//   for (TerrainPieceKey key : frame.retired) ... free ...
+//   for (const TerrainPiece& piece : frame.pieces) ... draw ...
 //
 // Thread contract: update() and everything reading its frame run on one thread (the frame
 // thread). In steady state (camera still, cache warm) update() does not allocate.
@@ -26,6 +29,7 @@
 #include <polder/terrain/dikes.hpp>
 #include <polder/terrain/heightfield.hpp>
 #include <polder/terrain/watertight.hpp>
+#include <polder/terrain_frame.hpp>
 
 namespace polder {
 
@@ -44,48 +48,6 @@ struct TerrainEngineOptions {
   bool cacheEnabled = true;  // false: rebuild every block every frame (for comparisons)
 };
 
-struct TerrainFrameStats {
-  std::size_t visibleBlocks = 0;
-  std::size_t culledBlocks = 0;
-  std::size_t blockTriangles = 0;
-  std::size_t dikeTriangles = 0;
-  double selectMs = 0.0;
-  double lodMs = 0.0;
-  double dikesMs = 0.0;
-  double totalMs = 0.0;
-  std::uint64_t cacheLookups = 0;  // this frame
-  std::uint64_t cacheHits = 0;
-  std::uint64_t cacheRebuilds = 0;
-  // Error mode's dike check (dike_check.hpp): the largest projected error of a drawn dike
-  // triangle (an upper bound, pixels) and how many drawn dike triangles stay over tau.
-  double dikeErrorPx = 0.0;
-  std::size_t dikeTrianglesOverTau = 0;
-  std::size_t triangles() const { return blockTriangles + dikeTriangles; }
-};
-
-struct TerrainBlockDraw {
-  terrain::NodeId node;
-  const terrain::BlockMesh* mesh = nullptr;  // valid until the next update()
-};
-
-// The dike triangles to draw: those touching a visible block, in global full-resolution
-// sample coordinates, counter-clockwise seen from above.
-struct TerrainDikes {
-  std::span<const terrain::DikeVertex> vertices;
-  std::span<const std::uint32_t> indices;
-};
-
-struct TerrainFrame {
-  std::vector<TerrainBlockDraw> blocks;  // visible blocks only
-  TerrainDikes dikes;
-  TerrainFrameStats stats;
-};
-
-struct TerrainFrameMeshes {
-  std::span<const MeshData> blocks;  // one per TerrainFrame::blocks entry, same order
-  std::span<const MeshData> dikes;   // the visible dike triangles, in tiles
-};
-
 class TerrainEngine {
  public:
   static Result<std::unique_ptr<TerrainEngine>> create(std::shared_ptr<const terrain::Heightfield> field,
@@ -96,6 +58,8 @@ class TerrainEngine {
   TerrainEngine& operator=(const TerrainEngine&) = delete;
 
   const TerrainFrame& update(const Camera& camera);
+  // The last frame update() or finishFrame() returned (empty before the first).
+  const TerrainFrame& frame() const;
 
   // update() in two halves, for a caller whose allocator splits one budget over the terrain
   // and other regions (polder::scene): beginFrame selects the cut and, in budget mode,
@@ -105,10 +69,11 @@ class TerrainEngine {
   std::span<const lod::RegionDemand> beginFrame(const Camera& camera);
   const TerrainFrame& finishFrame(const Camera& camera, std::uint64_t budgetTriangles);
 
-  // The last frame as world-space meshes (positions relative to per-block or per-tile
-  // origins, with normals): for rendering, Embree measurement and export. The storage is
+  // The last frame's pieces as world-space meshes, one per entry of frame.pieces in the same
+  // order (positions relative to each piece's anchor, with normals): for Embree measurement
+  // and export, not for drawing (draw the pieces, polder/terrain_frame.hpp). The storage is
   // reused, so once frames stop growing this allocates nothing; valid until the next call.
-  TerrainFrameMeshes frameMeshes();
+  std::span<const MeshData> frameMeshes();
 
   // Checks the last frame's whole cut, blocks and dikes together, on the integer sample
   // grid: open edges, T-junctions, overlaps, holes. Allocates; for tests and benchmarks.
