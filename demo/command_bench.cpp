@@ -13,6 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include <polder/camera_path.hpp>
+#include <polder/enclosed_background.hpp>
+#include <polder/query/frame_cracks.hpp>
 #include <polder/query/query_scene.hpp>
 #include <polder/query/screen_error.hpp>
 #include <polder/terrain/full_resolution_mesh.hpp>
@@ -39,6 +41,7 @@ struct BenchArguments {
   std::string render = "none";
   int measureEvery = 30;
   bool compareCache = false;
+  bool countCracks = false;
   std::string mode = "error";
   std::uint64_t budget = 200000;
   double alpha = 3.0;
@@ -58,6 +61,7 @@ struct PassResult {
   std::uint64_t lookups = 0, hits = 0, rebuilds = 0;
   std::uint64_t piecesCreated = 0, piecesChanged = 0, piecesRetired = 0;
   double pieceBytes = 0.0;  // vertex and index bytes the created and changed pieces carry
+  std::size_t enclosedBackground = 0, cracks = 0;  // --count-cracks, over the rendered frames
   double errorMax = 0.0, errorP99 = 0.0;
   int framesMeasured = 0;
   int framesChecked = 0;
@@ -66,6 +70,18 @@ struct PassResult {
   int dikeFramesOverTau = 0;              // frames the check left a dike triangle over tau
   std::size_t dikeTrianglesOverTauMax = 0;
 };
+
+// Reads the frame back and adds its enclosed background pixels and, among them, its cracks
+// (query/frame_cracks.hpp); the frame's mesh is ray cast only when something is enclosed.
+void countCracks(render::Renderer& renderer, TerrainEngine& engine, const Camera& camera, PassResult& result) {
+  RgbaImage image;
+  if (!renderer.readPixels(image).ok() || countEnclosedBackground(image) == 0) return;
+  auto frameMesh = query::QueryScene::createFromMeshes(engine.frameMeshes());
+  if (!frameMesh) return;
+  const query::FrameCracks found = query::findFrameCracks(image, **frameMesh, camera);
+  result.enclosedBackground += found.enclosedBackground;
+  result.cracks += found.cracks;
+}
 
 Result<CameraPath> makePath(const BenchArguments& arguments, const terrain::Heightfield& field,
                             const query::QueryScene& truth) {
@@ -140,6 +156,7 @@ PassResult runPass(TerrainEngine& engine, const CameraPath& path, const Camera& 
       headless->renderer->finish();
       result.renderMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
       result.uploadBytes.push_back(double(drawer->stats().uploadedBytes));
+      if (arguments.countCracks) countCracks(*headless->renderer, engine, camera, result);
     }
     if (measure) {
       const std::span<const MeshData> meshes = engine.frameMeshes();
@@ -189,6 +206,8 @@ int runBench(BenchArguments arguments) {
     return reportError(makeError(ErrorKind::InvalidArgument, "--alpha must be a positive number"));
   if (arguments.render != "none" && arguments.render != "gl")
     return reportError(makeError(ErrorKind::InvalidArgument, "--render must be 'none' or 'gl'"));
+  if (arguments.countCracks && arguments.render != "gl")
+    return reportError(makeError(ErrorKind::InvalidArgument, "--count-cracks needs --render gl"));
   if (arguments.measureEvery < 0)
     return reportError(makeError(ErrorKind::InvalidArgument, "--measure-every must be 0 (never) or more"));
   if (!(arguments.cacheMb > 0.0) || arguments.cacheMb > 1e6)
@@ -323,6 +342,9 @@ int runBench(BenchArguments arguments) {
                             {"median", percentiles(cached.uploadBytes).median},
                             {"p99", percentiles(cached.uploadBytes).p99},
                             {"zero_frames", std::count(cached.uploadBytes.begin(), cached.uploadBytes.end(), 0.0)}}},
+      {"cracks", arguments.countCracks && arguments.render == "gl"
+                     ? nlohmann::json{{"enclosed_background_px", cached.enclosedBackground}, {"crack_px", cached.cracks}}
+                     : nlohmann::json(nullptr)},
       {"screen_error_px",
        {{"tau", arguments.tauPx}, {"max", cached.errorMax}, {"p99", cached.errorP99}, {"frames_measured", cached.framesMeasured}}},
       {"watertight",
@@ -365,6 +387,9 @@ int runBench(BenchArguments arguments) {
                 mean(cached.uploadBytes) / 1024.0, percentiles(cached.uploadBytes).median / 1024.0,
                 static_cast<long long>(std::count(cached.uploadBytes.begin(), cached.uploadBytes.end(), 0.0)), arguments.frames);
   }
+  if (arguments.countCracks && arguments.render == "gl")
+    std::printf("%-34s %zu cracks (%zu enclosed background pixels, silhouette notches included)\n", "pixel cracks",
+                cached.cracks, cached.enclosedBackground);
   std::printf("%-34s %.1f%% reused, %llu rebuilds\n", "LOD cache", 100.0 * report["lod_cache"]["reuse_rate"].get<double>(),
               static_cast<unsigned long long>(cached.rebuilds));
   std::printf("%-34s max %.3f px, p99 %.3f px over %d frames (tau %.2f)\n", "measured screen-space error",
@@ -407,6 +432,8 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   command->add_option("--measure-every", arguments->measureEvery, "Frames between error and watertightness checks (0: never)")
       ->capture_default_str();
   command->add_flag("--compare-cache", arguments->compareCache, "Fly the path again without the LOD cache and compare");
+  command->add_flag("--count-cracks", arguments->countCracks,
+                    "With --render gl: read every frame back and count pixel cracks between triangles");
   command->add_option("--mode", arguments->mode, "error (tau) or budget (triangle budget)")->capture_default_str();
   command->add_option("--budget", arguments->budget, "Triangles per frame in budget mode, dikes included")->capture_default_str();
   command->add_option("--alpha", arguments->alpha, "Attenuation exponent of the budget allocator")->capture_default_str();

@@ -46,7 +46,8 @@ void DikeStage::stitch(std::span<const SelectedNode> cut, std::span<const BlockM
   auto visible = [&](std::uint32_t v) { return m_vertexNode[v] != kNoNode && cut[m_vertexNode[v]].visible; };
   for (std::size_t t = 0; t + 2 < m_mesh.indices.size(); t += 3) {
     const std::uint32_t a = m_mesh.indices[t], b = m_mesh.indices[t + 1], c = m_mesh.indices[t + 2];
-    if (visible(a) || visible(b) || visible(c)) {
+    // A triangle of DEM-border samples only (at the north-east corner) goes with its owner.
+    if (visible(a) || visible(b) || visible(c) || cut[m_mesh.owners[t / 3]].visible) {
       m_visibleIndices.insert(m_visibleIndices.end(), {a, b, c});
       m_visibleOwners.push_back(m_mesh.owners[t / 3]);
     }

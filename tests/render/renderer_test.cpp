@@ -177,6 +177,94 @@ TEST_F(RendererTest, TerrainFarFromTheOriginDrawsLikeTerrainAtTheOrigin) {
   EXPECT_LT(terrain, total);
 }
 
+// A grid surface drawn as one piece and as four pieces with their own anchors gives the same
+// image bit for bit: shared vertices reach the rasteriser identical, so joins leave no
+// pixel cracks (and no pixel differs along them).
+TEST_F(RendererTest, GridPiecesThatShareVerticesDrawExactlyLikeOneMesh) {
+  TerrainStyle style;
+  style.maxHeightM = 100.0f;
+  const GridSpacing spacing{12.5, 12.5};
+  auto height = [](double x, double y) { return test::hills(float(x - 400.0), float(y - 400.0)); };
+  Camera camera = smallCamera();
+  camera.position = {412.3, -91.7, 180.4};
+  camera.yawDeg = 17.0;
+  camera.pitchDeg = -28.0;
+
+  const test::GridMeshData whole = test::makeGridMesh(0, 0, 64, 64, spacing, height);
+  const test::GridMeshData parts[4] = {test::makeGridMesh(0, 0, 29, 37, spacing, height),
+                                       test::makeGridMesh(29, 0, 64, 37, spacing, height),
+                                       test::makeGridMesh(0, 37, 29, 64, spacing, height),
+                                       test::makeGridMesh(29, 37, 64, 64, spacing, height)};
+  auto draw = [&](std::span<const test::GridMeshData> meshes) {
+    std::vector<render::MeshHandle> handles;
+    for (const test::GridMeshData& mesh : meshes) {
+      auto handle = m_renderer->upload(mesh.view());
+      EXPECT_TRUE(handle.ok()) << handle.error().message;
+      handles.push_back(*handle);
+    }
+    m_renderer->beginFrame(camera, style);
+    for (const render::MeshHandle handle : handles) m_renderer->draw(handle);
+    EXPECT_TRUE(m_renderer->endFrame().ok());
+    RgbaImage image;
+    EXPECT_TRUE(m_renderer->readPixels(image).ok());
+    for (const render::MeshHandle handle : handles) m_renderer->release(handle);
+    return image;
+  };
+  const RgbaImage one = draw(std::span(&whole, 1));
+  const RgbaImage four = draw(parts);
+  EXPECT_EQ(maxChannelDifference(one, four), 0);
+  int terrain = 0;
+  for (int y = 0; y < one.height; ++y)
+    for (int x = 0; x < one.width; ++x) terrain += isTerrain(one, x, y) ? 1 : 0;
+  EXPECT_GT(terrain, one.width * one.height / 3);
+}
+
+// Only camera-relative differences reach float: a grid 10^7 m from the world origin draws as
+// the same grid near it.
+TEST_F(RendererTest, GridMeshesFarFromTheOriginDrawLikeGridsAtTheOrigin) {
+  TerrainStyle style;
+  style.maxHeightM = 100.0f;
+  style.fogDensity = fogDensityForDistance(800.0f);
+  const GridSpacing spacing{1.25, 1.25};
+  const std::int64_t far = 8000000;  // samples: 10^7 m east and north
+  Camera camera = smallCamera();
+  camera.yawDeg = 20.0;
+  camera.pitchDeg = -25.0;
+  const glm::dvec3 eye(37.3, -412.7, 140.9);
+  RgbaImage images[2];
+  for (int i = 0; i < 2; ++i) {
+    const std::int64_t base = i == 0 ? 0 : far;
+    const double baseM = double(base) * spacing.x;
+    auto height = [baseM](double x, double y) { return test::hills(float(x - baseM - 400.0), float(y - baseM - 400.0)); };
+    const test::GridMeshData hills = test::makeGridMesh(base, base, base + 640, base + 640, spacing, height);
+    auto handle = m_renderer->upload(hills.view());
+    ASSERT_TRUE(handle.ok());
+    camera.position = glm::dvec3(baseM + 400.0, baseM + 400.0, 0.0) + eye;
+    m_renderer->beginFrame(camera, style);
+    m_renderer->draw(*handle);
+    ASSERT_TRUE(m_renderer->endFrame().ok());
+    ASSERT_TRUE(m_renderer->readPixels(images[i]).ok());
+    m_renderer->release(*handle);
+  }
+  EXPECT_LE(maxChannelDifference(images[0], images[1]), 1);
+  int terrain = 0;
+  for (int y = 0; y < images[0].height; ++y)
+    for (int x = 0; x < images[0].width; ++x) terrain += isTerrain(images[0], x, y) ? 1 : 0;
+  EXPECT_GT(terrain, images[0].width * images[0].height / 5);
+  EXPECT_LT(terrain, images[0].width * images[0].height);
+}
+
+TEST_F(RendererTest, GridUploadsRejectBadIndicesAndSpacing) {
+  test::GridMeshData mesh = test::makeGridMesh(0, 0, 2, 2, GridSpacing{1.0, 1.0}, [](double, double) { return 0.0f; });
+  mesh.indices.back() = 99;
+  auto outOfRange = m_renderer->upload(mesh.view());
+  ASSERT_FALSE(outOfRange.ok());
+  EXPECT_NE(outOfRange.error().message.find("out of range"), std::string::npos);
+  mesh.indices.back() = 0;
+  mesh.spacing = GridSpacing{0.0, 1.0};
+  EXPECT_FALSE(m_renderer->upload(mesh.view()).ok());
+}
+
 TEST_F(RendererTest, WireframeOverlayChangesTerrainPixelsOnly) {
   const MeshData hills = makeGrid({0.0, 0.0, 0.0}, 400.0f, 16, test::hills);
   Camera camera = smallCamera();

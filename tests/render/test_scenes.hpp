@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include <polder/camera.hpp>
+#include <polder/grid_mesh.hpp>
 #include <polder/image.hpp>
 #include <polder/mesh_data.hpp>
 
@@ -40,6 +41,45 @@ inline MeshData makeGrid(const glm::dvec3& origin, float halfSize, int cells,
   for (int j = 0; j < cells; ++j) {
     for (int i = 0; i < cells; ++i) {
       const auto v00 = std::uint32_t(j * n + i), v10 = v00 + 1, v01 = v00 + std::uint32_t(n), v11 = v01 + 1;
+      mesh.indices.insert(mesh.indices.end(), {v00, v10, v11, v00, v11, v01});
+    }
+  }
+  return mesh;
+}
+
+// A grid mesh of samples [x0, x1] x [y0, y1] (inclusive, global sample coordinates) of the
+// surface `height(metres east, metres north)`, anchored at its south-west sample.
+struct GridMeshData {
+  GridAnchor anchor;
+  GridSpacing spacing;
+  std::vector<GridMeshVertex> vertices;
+  std::vector<std::uint32_t> indices;
+  GridMeshView view() const { return GridMeshView{anchor, spacing, vertices, indices}; }
+};
+
+inline GridMeshData makeGridMesh(std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1, GridSpacing spacing,
+                                 const std::function<float(double, double)>& height) {
+  GridMeshData mesh;
+  mesh.anchor = GridAnchor{x0, y0};
+  mesh.spacing = spacing;
+  const auto nx = std::uint32_t(x1 - x0 + 1), ny = std::uint32_t(y1 - y0 + 1);
+  for (std::int64_t y = y0; y <= y1; ++y) {
+    for (std::int64_t x = x0; x <= x1; ++x) {
+      const double wx = double(x) * spacing.x, wy = double(y) * spacing.y;
+      const double dx = (height(wx + spacing.x, wy) - height(wx - spacing.x, wy)) / (2.0 * spacing.x);
+      const double dy = (height(wx, wy + spacing.y) - height(wx, wy - spacing.y)) / (2.0 * spacing.y);
+      const glm::vec3 n = glm::normalize(glm::vec3(float(-dx), float(-dy), 1.0f));
+      GridMeshVertex v;
+      v.x = float(x - x0);
+      v.y = float(y - y0);
+      v.z = height(wx, wy);
+      v.nx = snorm8(n.x), v.ny = snorm8(n.y), v.nz = snorm8(n.z);
+      mesh.vertices.push_back(v);
+    }
+  }
+  for (std::uint32_t j = 0; j + 1 < ny; ++j) {
+    for (std::uint32_t i = 0; i + 1 < nx; ++i) {
+      const std::uint32_t v00 = j * nx + i, v10 = v00 + 1, v01 = v00 + nx, v11 = v01 + 1;
       mesh.indices.insert(mesh.indices.end(), {v00, v10, v11, v00, v11, v01});
     }
   }

@@ -37,6 +37,14 @@ std::uint64_t triangleHash(const terrain::DikeVertex& a, const terrain::DikeVert
   return mixBits(mixBits(mixBits(k[0]) ^ k[1]) ^ k[2]);
 }
 
+// A block mesh's geometry, hashed: a rebuild that gives the same mesh keeps its version.
+std::uint64_t blockHash(const terrain::BlockMesh& mesh) {
+  std::uint64_t h = mixBits(packSample(mesh.footprint.x0, mesh.footprint.y0) ^ std::uint64_t(mesh.footprint.stride) << 20);
+  for (const terrain::GridVertex& v : mesh.vertices) h = mixBits(h ^ (std::uint64_t(v.i) << 16 | v.j));
+  for (const std::uint32_t index : mesh.indices) h = mixBits(h ^ index);
+  return h;
+}
+
 }  // namespace
 
 struct TerrainPieces::Record {
@@ -45,6 +53,7 @@ struct TerrainPieces::Record {
   terrain::NodeId node;
   std::uint64_t version = 0;
   std::uint64_t source = 0;  // block: its mesh's revision; dikes: hash of the owned triangles
+  std::uint64_t geometry = 0;  // block: blockHash of that mesh
   std::uint64_t lastFrame = 0;
   terrain::DikeVertex anchor;
   std::vector<GridMeshVertex> vertices;
@@ -183,11 +192,16 @@ void TerrainPieces::addBlock(const terrain::NodeId& node, const terrain::BlockMe
   bool fresh = false;
   const std::uint32_t index = touch(terrainPieceKey(TerrainPieceKind::Block, node), fresh);
   Record& record = *m_records[index];
-  const bool rebuilt = fresh || record.source != mesh.revision || mesh.revision == 0;
+  bool rebuilt = fresh;
+  if (fresh || record.source != mesh.revision || mesh.revision == 0) {
+    const std::uint64_t geometry = blockHash(mesh);
+    rebuilt = fresh || geometry != record.geometry;
+    record.source = mesh.revision;
+    record.geometry = geometry;
+  }
   if (rebuilt) {
     record.kind = TerrainPieceKind::Block;
     record.node = node;
-    record.source = mesh.revision;
     buildBlock(record, mesh);
   }
   publish(index, fresh, rebuilt);

@@ -3,7 +3,8 @@
 // per version.
 //
 // Blocks are compared by their mesh's revision (the LOD cache numbers its builds), so an
-// unchanged block costs one table lookup. Dike pieces are compared by a hash of the
+// unchanged block costs one table lookup; a rebuilt one by a hash of its geometry, so a
+// rebuild that gives the same mesh keeps the version. Dike pieces are compared by a hash of the
 // triangles their node owns, independent of the triangles' order and of where each starts;
 // only a piece whose hash differs is rebuilt. Storage (records, vertex data, tables) is kept
 // and recycled, so once frames stop growing the pieces allocate nothing.

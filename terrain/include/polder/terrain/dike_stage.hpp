@@ -21,7 +21,8 @@ class DikeStage {
   void stitch(std::span<const SelectedNode> cut, std::span<const BlockMesh* const> cutMeshes);
 
   const DikeMesh& mesh() const { return m_mesh; }
-  // Triangles (indices into mesh().vertices) with a vertex on a visible block's side.
+  // Triangles (indices into mesh().vertices) with a vertex on a visible block's side, or
+  // owned by a visible block.
   std::span<const std::uint32_t> visibleIndices() const { return m_visibleIndices; }
   std::size_t visibleTriangleCount() const { return m_visibleIndices.size() / 3; }
   // Per visible triangle: the index in the cut of its owner (DikeMesh::owners).

@@ -5,7 +5,7 @@
 // triangles in pieces, one per node that owns some of the frame's visible dike triangles
 // (terrain/dikes.hpp, DikeMesh::owners). A piece has a key, stable across frames, and a
 // version that changes only when its geometry changes: for a block, when the LOD cache
-// rebuilds its mesh; for dikes, when the triangles the node owns differ from last frame's
+// rebuilds its mesh into a different one; for dikes, when the triangles the node owns differ from last frame's
 // (a neighbour on either side changed). `created`, `changed` and `retired` say what happened
 // since the previous frame:
 //   - created: pieces not in the previous frame (prepare GPU data for them);
