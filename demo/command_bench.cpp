@@ -117,11 +117,7 @@ PassResult runPass(TerrainEngine& engine, const CameraPath& path, const Camera& 
   std::optional<ProgressBar> progress;
   if (progressBar) progress.emplace(std::string(engine.options().cacheEnabled ? "flying" : "flying without cache"));
   for (int frameIndex = 0; frameIndex < arguments.frames; ++frameIndex) {
-    const CameraPose pose = path.at(frameIndex * frameTimeS);
-    Camera camera = lens;
-    camera.position = pose.position;
-    camera.yawDeg = pose.yawDeg;
-    camera.pitchDeg = pose.pitchDeg;
+    const Camera camera = path.at(frameIndex * frameTimeS).placed(lens);
     const TerrainFrame& frame = engine.update(camera);
     const TerrainFrameStats& stats = frame.stats;
     result.selectMs.push_back(stats.selectMs);

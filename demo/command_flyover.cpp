@@ -107,14 +107,6 @@ Result<Flight> prepareFlight(const FlyoverArguments& arguments) {
                 std::move(*scene), std::move(path), style};
 }
 
-Camera cameraAt(const CameraPose& pose, const Camera& lens) {
-  Camera camera = lens;
-  camera.position = pose.position;
-  camera.yawDeg = pose.yawDeg;
-  camera.pitchDeg = pose.pitchDeg;
-  return camera;
-}
-
 int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
   if (arguments.frames < 1 || arguments.frames > 100000)
     return reportError(makeError(ErrorKind::InvalidArgument, "--frames must be between 1 and 100000"));
@@ -136,7 +128,7 @@ int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) 
   std::size_t triangles = 0;
   ProgressBar progress("rendering " + std::to_string(arguments.frames) + " frames");
   for (int frame = 0; frame < arguments.frames; ++frame) {
-    const Camera camera = cameraAt(flight.path.at(frame * step), lens);
+    const Camera camera = flight.path.at(frame * step).placed(lens);
     const auto start = std::chrono::steady_clock::now();
     triangles += drawing->prepare(camera);
     renderer.beginFrame(camera, style);
@@ -183,7 +175,7 @@ int runWindow(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
   using Key = platform::Key;
   bool autopilot = true;
   double flightTime = 0.0;
-  Camera camera = cameraAt(flight.path.at(0.0), lens);
+  Camera camera = flight.path.at(0.0).placed(lens);
   auto last = std::chrono::steady_clock::now();
   while (!(*window)->shouldClose()) {
     (*window)->pollEvents();
@@ -198,8 +190,7 @@ int runWindow(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
     if (input.held(Key::Space)) autopilot = true;
     if (autopilot) {
       flightTime += dt;
-      const Camera pose = cameraAt(flight.path.at(flightTime), lens);
-      camera.position = pose.position, camera.yawDeg = pose.yawDeg, camera.pitchDeg = pose.pitchDeg;
+      camera = flight.path.at(flightTime).placed(camera);
     } else {
       const double speed = arguments.flight.speedMps * ((input.held(Key::LeftShift) || input.held(Key::RightShift)) ? 5.0 : 1.0);
       if (input.rightButton) {

@@ -394,14 +394,7 @@ Result<LoadedScene> loadSceneFile(const std::filesystem::path& file) {
 }
 
 Camera sceneCamera(const LoadedScene& loaded, int index) {
-  Camera camera = loaded.lens;
-  if (loaded.path) {
-    const CameraPose pose = loaded.path->at(index / 60.0);
-    camera.position = pose.position;
-    camera.yawDeg = pose.yawDeg;
-    camera.pitchDeg = pose.pitchDeg;
-  }
-  return camera;
+  return loaded.path ? loaded.path->at(index / 60.0).placed(loaded.lens) : loaded.lens;
 }
 
 }  // namespace polder::cli

@@ -76,9 +76,11 @@ TEST(OrbitLoop, CirclesTheCentreLookingAtIt) {
   for (double t = 0.0; t < path.durationS(); t += path.durationS() / 37.0) {
     const CameraPose pose = path.at(t);
     EXPECT_NEAR(glm::length(glm::dvec2(pose.position) - glm::dvec2(centre)), 0.35 * 6000.0, 1.0);
-    Camera camera;
-    camera.yawDeg = pose.yawDeg;
-    camera.pitchDeg = pose.pitchDeg;
+    Camera lens;
+    lens.fovYDeg = 35.0;
+    const Camera camera = pose.placed(lens);
+    EXPECT_EQ(camera.position, pose.position);
+    EXPECT_EQ(camera.fovYDeg, 35.0) << "the lens stays";
     EXPECT_GT(glm::dot(camera.forward(), glm::normalize(centre - pose.position)), 0.9999);
     EXPECT_GE(pose.position.z - ground(pose.position.x, pose.position.y), options.altitudeM);
   }

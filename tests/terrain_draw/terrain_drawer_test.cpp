@@ -71,13 +71,10 @@ class TerrainDrawerTest : public ::testing::Test {
     terrainShare = 1.0;
     RgbaImage image;
     for (int frame = 0; frame < frames; ++frame) {
-      const CameraPose pose = path.at(frame * path.durationS() / frames);
       Camera camera;
       camera.widthPx = 640;
       camera.heightPx = 360;
-      camera.position = pose.position;
-      camera.yawDeg = pose.yawDeg;
-      camera.pitchDeg = pose.pitchDeg;
+      camera = path.at(frame * path.durationS() / frames).placed(camera);
       camera.farM = 4.0 * std::hypot(field->extentX(), field->extentY());
       camera.nearM = std::max(0.1, camera.farM * 2e-6);
       const TerrainFrame& terrain = (*engine)->update(camera);

@@ -7,6 +7,8 @@
 
 #include <glm/glm.hpp>
 
+#include <polder/camera.hpp>
+
 #include <polder/result.hpp>
 
 namespace polder {
@@ -16,6 +18,14 @@ struct CameraPose {
   glm::dvec3 position{0.0};
   double yawDeg = 0.0;
   double pitchDeg = 0.0;
+
+  // `lens` (field of view, viewport, clip planes) placed at this pose.
+  Camera placed(Camera lens) const {
+    lens.position = position;
+    lens.yawDeg = yawDeg;
+    lens.pitchDeg = pitchDeg;
+    return lens;
+  }
 };
 
 // Poses in time order; in between, positions interpolate linearly and angles along the
