@@ -84,6 +84,9 @@ class FlightDrawing {
     m_drawer->draw(*m_frame, m_debug);
   }
 
+  // Bytes the last prepare() sent to the GPU (pieces created or changed); 0 at full resolution.
+  std::size_t uploadedBytes() const { return m_drawer ? m_drawer->stats().uploadedBytes : 0; }
+
   TerrainDebugView debug() const { return m_debug; }
 
  private:
@@ -126,11 +129,15 @@ int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) 
   RgbaImage image;
   double renderSeconds = 0.0;
   std::size_t triangles = 0;
+  std::size_t uploaded = 0;
+  int framesUploadingNothing = 0;
   ProgressBar progress("rendering " + std::to_string(arguments.frames) + " frames");
   for (int frame = 0; frame < arguments.frames; ++frame) {
     const Camera camera = flight.path.at(frame * step).placed(lens);
     const auto start = std::chrono::steady_clock::now();
     triangles += drawing->prepare(camera);
+    uploaded += drawing->uploadedBytes();
+    framesUploadingNothing += drawing->uploadedBytes() == 0;
     renderer.beginFrame(camera, style);
     drawing->draw(renderer);
     if (Status done = renderer.endFrame(); !done) return reportError(done.error());
@@ -151,6 +158,9 @@ int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) 
   std::printf("wrote %d frames (%dx%d) to %s/frame_0000.png ... frame_%04d.png; %.0f ms per frame to draw\n",
               arguments.frames, lens.widthPx, lens.heightPx, arguments.out.c_str(), arguments.frames - 1,
               1000.0 * renderSeconds / arguments.frames);
+  if (!arguments.fullResolution)
+    std::printf("uploaded %.0f KB per frame to the GPU on average; %d of %d frames uploaded nothing\n",
+                double(uploaded) / 1024.0 / arguments.frames, framesUploadingNothing, arguments.frames);
   return 0;
 }
 
@@ -219,8 +229,8 @@ int runWindow(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
     if (Status done = (*renderer)->endFrame(); !done) return reportError(done.error());
     (*window)->swapBuffers();
     char title[160];
-    std::snprintf(title, sizeof title, "Polder flyover - %s - %.0f fps - %zu triangles", autopilot ? "autopilot" : "manual",
-                  dt > 0.0 ? 1.0 / dt : 0.0, triangles);
+    std::snprintf(title, sizeof title, "Polder flyover - %s - %.0f fps - %zu triangles - %zu KB uploaded",
+                  autopilot ? "autopilot" : "manual", dt > 0.0 ? 1.0 / dt : 0.0, triangles, drawing->uploadedBytes() / 1024);
     (*window)->setTitle(title);
   }
   return 0;
