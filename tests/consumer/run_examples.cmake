@@ -1,0 +1,32 @@
+# Script mode: install Polder, build examples/ against the installed package, and run both
+# host programs over the bundled sample for a few frames (ctest runs under a virtual display).
+function(run_step)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE output)
+  if(NOT result EQUAL 0)
+    message(FATAL_ERROR "step failed (${result}): ${ARGN}\n${output}")
+  endif()
+  set(STEP_OUTPUT "${output}" PARENT_SCOPE)
+endfunction()
+
+file(REMOVE_RECURSE ${WORK_DIR})
+run_step(${CMAKE_COMMAND} --install ${POLDER_BUILD_DIR} --prefix ${WORK_DIR}/prefix)
+run_step(${CMAKE_COMMAND} -S ${EXAMPLES_DIR} -B ${WORK_DIR}/build -G ${GENERATOR}
+         -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix)
+run_step(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
+
+run_step(${WORK_DIR}/build/embed_window ${DEM} 20)
+if(NOT STEP_OUTPUT MATCHES "drew 20 frames, [1-9][0-9]* pieces resident")
+  message(FATAL_ERROR "unexpected embed_window output: ${STEP_OUTPUT}")
+endif()
+message(STATUS "embed_window: ${STEP_OUTPUT}")
+
+# The host renderer holds still for the second half: it must upload nothing then, and its
+# own drawing of the pieces must show terrain.
+run_step(${WORK_DIR}/build/host_renderer ${DEM} 24)
+if(NOT STEP_OUTPUT MATCHES "uploaded [1-9][0-9]* pieces, 0 while still; [1-9][0-9]* pieces held; terrain ([0-9]+)% of the last frame")
+  message(FATAL_ERROR "unexpected host_renderer output: ${STEP_OUTPUT}")
+endif()
+if(CMAKE_MATCH_1 LESS 30)
+  message(FATAL_ERROR "the host renderer drew too little terrain: ${STEP_OUTPUT}")
+endif()
+message(STATUS "host_renderer: ${STEP_OUTPUT}")
