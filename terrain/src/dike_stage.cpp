@@ -13,10 +13,26 @@ DikeStage::DikeStage(const Heightfield& field, const BlockLayout& layout)
   m_vertexNode.reserve(dikeVertexBound(layout, maxNodes));
   m_visibleIndices.reserve(3 * dikeTriangleBound(layout, maxNodes));
   m_visibleOwners.reserve(dikeTriangleBound(layout, maxNodes));
+  m_inputs.reserve(maxNodes);
 }
 
-void DikeStage::stitch(std::span<const SelectedNode> cut, std::span<const BlockMesh* const> cutMeshes) {
+bool DikeStage::sameInputs(std::span<const SelectedNode> cut, std::span<const BlockMesh* const> cutMeshes) const {
+  if (m_failed || cut.size() != m_inputs.size()) return false;
+  for (std::size_t i = 0; i < cut.size(); ++i) {
+    const BlockMesh* mesh = cutMeshes[i];
+    const Input input{cut[i].node, cut[i].visible, mesh, mesh ? mesh->revision : 0};
+    // A mesh no cache numbered (revision 0) may have changed in place: never trust it.
+    if (!(input == m_inputs[i]) || (mesh && mesh->revision == 0)) return false;
+  }
+  return true;
+}
+
+bool DikeStage::stitch(std::span<const SelectedNode> cut, std::span<const BlockMesh* const> cutMeshes) {
   assert(cut.size() == cutMeshes.size() && "DikeStage::stitch: one mesh per node of the cut");
+  if (sameInputs(cut, cutMeshes)) return false;
+  m_inputs.clear();
+  for (std::size_t i = 0; i < cut.size(); ++i)
+    m_inputs.push_back(Input{cut[i].node, cut[i].visible, cutMeshes[i], cutMeshes[i] ? cutMeshes[i]->revision : 0});
   m_blocks.clear();
   for (std::size_t i = 0; i < cut.size(); ++i) m_blocks.push_back(DikeBlock{cut[i].node, cutMeshes[i]});
   m_visibleIndices.clear();
@@ -26,7 +42,7 @@ void DikeStage::stitch(std::span<const SelectedNode> cut, std::span<const BlockM
   m_failed = !buildDikes(m_layout, m_blocks, m_mesh, m_scratch).ok();
   if (m_failed) {
     m_mesh.clear();
-    return;
+    return true;
   }
 
   // The output lists every node's boundary vertices, node by node in cut order (corners only
@@ -52,6 +68,7 @@ void DikeStage::stitch(std::span<const SelectedNode> cut, std::span<const BlockM
       m_visibleOwners.push_back(m_mesh.owners[t / 3]);
     }
   }
+  return true;
 }
 
 WatertightReport DikeStage::checkWatertight() const {

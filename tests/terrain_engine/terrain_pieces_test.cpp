@@ -146,6 +146,8 @@ TEST(TerrainPieces, AStillCameraChangesNothing) {
     EXPECT_TRUE(again.changed.empty());
     EXPECT_TRUE(again.retired.empty());
     EXPECT_EQ(again.stats.pieceBytesProduced, 0u);
+    EXPECT_FALSE(again.stats.dikesStitched) << "nothing changed: the dikes stand";
+    EXPECT_TRUE((*engine)->checkWatertight().watertight());
     ASSERT_EQ(again.pieces.size(), versions.size());
     for (std::size_t i = 0; i < versions.size(); ++i) {
       EXPECT_EQ(again.pieces[i].version, versions[i]);

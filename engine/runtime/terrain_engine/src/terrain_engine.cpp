@@ -67,6 +67,7 @@ struct TerrainEngine::Impl {
   std::vector<terrain::NodeId> forcedSplits;  // SelectionOptions::forcedSplits, reserved
   std::vector<double> forcedSplitDistances;   // camera distance when each was added
   std::size_t lastDikeTriangles = 0;
+  bool dikesStitched = false;  // this frame: false while the last frame's dikes stand
   // The frame between beginFrame and finishFrame.
   Clock::time_point frameStart{};
   TerrainFrameStats frameStats;
@@ -163,7 +164,7 @@ struct TerrainEngine::Impl {
   DikeCheckResult stitchWithinTolerance(const Camera& camera) {
     constexpr int kMaxRounds = 16;
     for (int round = 1;; ++round) {
-      dikes.stitch(cut, cutMeshes);
+      dikesStitched |= dikes.stitch(cut, cutMeshes);
       const DikeCheckResult result = dikeCheck.check(camera, options.tauPx, dikes, cut, cutMeshes, meshes);
       if (dikeCheck.repinned().empty() || round == kMaxRounds) return result;
       for (const std::uint32_t i : dikeCheck.repinned()) acquireForError(i, camera);
@@ -205,9 +206,13 @@ struct TerrainEngine::Impl {
   void updatePieces() {
     pieces.beginFrame();
     for (const TerrainBlockDraw& block : frame.blocks) pieces.addBlock(block.node, *block.mesh);
-    cutNodes.clear();
-    for (const terrain::SelectedNode& selected : cut) cutNodes.push_back(selected.node);
-    pieces.addDikes(dikes.mesh().vertices, dikes.visibleIndices(), dikes.visibleOwners(), cutNodes);
+    if (dikesStitched) {
+      cutNodes.clear();
+      for (const terrain::SelectedNode& selected : cut) cutNodes.push_back(selected.node);
+      pieces.addDikes(dikes.mesh().vertices, dikes.visibleIndices(), dikes.visibleOwners(), cutNodes);
+    } else {
+      pieces.keepDikes();
+    }
     pieces.finishFrame();
     frame.pieces = pieces.pieces();
     frame.created = pieces.created();
@@ -252,6 +257,7 @@ std::span<const lod::RegionDemand> TerrainEngine::beginFrame(const Camera& camer
   Impl& s = *m_impl;
   s.frameStart = Clock::now();
   s.frameStats = TerrainFrameStats{};
+  s.dikesStitched = false;
   s.meshes.beginFrame();
   s.countersBefore = s.meshes.counters();
 
@@ -299,7 +305,7 @@ const TerrainFrame& TerrainEngine::finishFrame(const Camera& camera, std::uint64
     for (int attempt = 0; attempt < 4; ++attempt) {
       s.extractForBudget(blockBudget);
       const auto dikesStart = Clock::now();
-      s.dikes.stitch(s.cut, s.cutMeshes);
+      s.dikesStitched |= s.dikes.stitch(s.cut, s.cutMeshes);
       dikesMs += millisecondsSince(dikesStart);
       const std::uint64_t total = s.visibleBlockTriangles() + s.dikes.visibleTriangleCount();
       if (total <= budget && total >= budget - budget / 20) break;
@@ -333,6 +339,7 @@ const TerrainFrame& TerrainEngine::finishFrame(const Camera& camera, std::uint64
   const auto piecesStart = Clock::now();
   s.updatePieces();
   stats.piecesMs = millisecondsSince(piecesStart);
+  stats.dikesStitched = s.dikesStitched;
   stats.piecesCreated = s.frame.created.size();
   stats.piecesChanged = s.frame.changed.size();
   stats.piecesRetired = s.frame.retired.size();

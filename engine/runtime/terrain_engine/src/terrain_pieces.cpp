@@ -127,6 +127,8 @@ void TerrainPieces::reserve(std::size_t maxPieces) {
   m_records.reserve(2 * maxPieces);
   m_freeRecords.reserve(2 * maxPieces);
   m_live.reserve(2 * maxPieces);
+  m_dikeRecords.reserve(2 * maxPieces);
+  m_lastDikeRecords.reserve(2 * maxPieces);
   m_pieces.reserve(2 * maxPieces);
   m_pieceRecords.reserve(2 * maxPieces);
   m_created.reserve(2 * maxPieces);
@@ -141,6 +143,7 @@ void TerrainPieces::beginFrame() {
   m_created.clear();
   m_changed.clear();
   m_retired.clear();
+  m_dikeRecords.clear();
   m_bytesProduced = 0;
 }
 
@@ -253,6 +256,15 @@ void TerrainPieces::addDikes(std::span<const terrain::DikeVertex> vertices, std:
       buildDikes(record, vertices, indices, triangles);
     }
     publish(index, fresh, rebuilt);
+    m_dikeRecords.push_back(index);
+  }
+}
+
+void TerrainPieces::keepDikes() {
+  for (const std::uint32_t index : m_lastDikeRecords) {
+    m_records[index]->lastFrame = m_frame;
+    publish(index, false, false);
+    m_dikeRecords.push_back(index);
   }
 }
 
@@ -296,6 +308,7 @@ void TerrainPieces::finishFrame() {
     m_freeRecords.push_back(index);
   }
   m_live.assign(m_pieceRecords.begin(), m_pieceRecords.end());
+  m_lastDikeRecords.assign(m_dikeRecords.begin(), m_dikeRecords.end());
 }
 
 }  // namespace polder

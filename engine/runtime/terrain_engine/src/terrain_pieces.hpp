@@ -41,6 +41,9 @@ class TerrainPieces {
   // node of the cut that owns it.
   void addDikes(std::span<const terrain::DikeVertex> vertices, std::span<const std::uint32_t> indices,
                 std::span<const std::uint32_t> owners, std::span<const terrain::NodeId> ownerNodes);
+  // The last frame's dike pieces as they were: for a frame whose dikes were not stitched
+  // again (DikeStage::stitch kept them), so the same triangles need no hashing.
+  void keepDikes();
   void finishFrame();
 
   std::span<const TerrainPiece> pieces() const { return m_pieces; }
@@ -67,6 +70,8 @@ class TerrainPieces {
   std::vector<std::uint32_t> m_freeRecords;
   std::unique_ptr<KeyIndex> m_index;
   std::vector<std::uint32_t> m_live;  // records of the last finished frame
+  std::vector<std::uint32_t> m_dikeRecords;      // this frame's dike pieces, in order
+  std::vector<std::uint32_t> m_lastDikeRecords;  // the last finished frame's
   std::uint64_t m_frame = 0;
   std::uint64_t m_nextVersion = 1;
 

@@ -17,8 +17,10 @@ class DikeStage {
   DikeStage(const Heightfield& field, const BlockLayout& layout);
 
   // Triangulates the gaps between the meshes of the cut (cutMeshes[i] for cut[i]; null for
-  // a node without a mesh, which then counts as its corners).
-  void stitch(std::span<const SelectedNode> cut, std::span<const BlockMesh* const> cutMeshes);
+  // a node without a mesh, which then counts as its corners). When the cut, its visibility
+  // and every mesh (by BlockMesh::revision) are those of the last stitch, the dikes are the
+  // same and are kept as they are: returns false then, true when it stitched.
+  bool stitch(std::span<const SelectedNode> cut, std::span<const BlockMesh* const> cutMeshes);
 
   const DikeMesh& mesh() const { return m_mesh; }
   // Triangles (indices into mesh().vertices) with a vertex on a visible block's side, or
@@ -44,6 +46,16 @@ class DikeStage {
   std::vector<std::uint32_t> m_vertexNode;
   std::vector<std::uint32_t> m_visibleIndices;
   std::vector<std::uint32_t> m_visibleOwners;
+  // What the last stitch was made from: per node of the cut, its node, visibility and mesh.
+  struct Input {
+    NodeId node;
+    bool visible = false;
+    const BlockMesh* mesh = nullptr;
+    std::uint64_t revision = 0;
+    friend bool operator==(const Input&, const Input&) = default;
+  };
+  std::vector<Input> m_inputs;
+  bool sameInputs(std::span<const SelectedNode> cut, std::span<const BlockMesh* const> cutMeshes) const;
   bool m_failed = false;
 };
 
