@@ -49,15 +49,17 @@ macro(polder_dependency component package)
   endif()
 endmacro()
 
-# polder_missing_components(OUT NAME...): the components among NAME... that are not built.
+# polder_missing_components(OUT NAME...): the components among NAME... that are not built,
+# as text for a message ("polder::query, polder::render"); empty when all are.
 function(polder_missing_components out)
   set(_missing)
   foreach(_name IN LISTS ARGN)
     if(NOT TARGET polder::${_name})
-      list(APPEND _missing ${_name})
+      list(APPEND _missing polder::${_name})
     endif()
   endforeach()
-  set(${out} ${_missing} PARENT_SCOPE)
+  list(JOIN _missing ", " _text)
+  set(${out} "${_text}" PARENT_SCOPE)
 endfunction()
 
 # One line for the configure log: what is built and what is not, and why.

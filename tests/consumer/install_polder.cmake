@@ -4,12 +4,7 @@
 #     OFF and no programs, builds only the targets in COMPONENTS (comma-separated) and
 #     installs them with the package files. SCRATCH_DIR is kept, so later runs rebuild only
 #     what changed; -O0, as the consumer tests need the package, not speed.
-function(run_step)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE output)
-  if(NOT result EQUAL 0)
-    message(FATAL_ERROR "step failed (${result}): ${ARGN}\n${output}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/run_step.cmake)
 
 file(REMOVE_RECURSE ${PREFIX})
 if(SOURCE STREQUAL "build")

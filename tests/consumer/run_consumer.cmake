@@ -2,13 +2,7 @@
 # PREFIX (with the extra -D arguments in CONSUMER_ARGS, separated by '|'), builds it and runs
 # it; its output must match EXPECT. With EXPECT_CONFIGURE_ERROR, the configure must fail
 # instead, with a message matching it. Fails on any other outcome.
-function(run_step)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE output)
-  if(NOT result EQUAL 0)
-    message(FATAL_ERROR "step failed (${result}): ${ARGN}\n${output}")
-  endif()
-  set(STEP_OUTPUT "${output}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/run_step.cmake)
 
 file(REMOVE_RECURSE ${WORK_DIR})
 string(REPLACE "|" ";" _args "${CONSUMER_ARGS}")
