@@ -1,30 +1,53 @@
-# Every third-party package Polder uses, found once. All come from Debian 12's packages.
-find_package(Threads REQUIRED)
-find_package(glm CONFIG REQUIRED)
-find_package(OpenImageIO 2.4 CONFIG REQUIRED)
-find_package(TIFF REQUIRED)
-find_package(embree 3 CONFIG REQUIRED)
+# Polder's components, bottom-up (docs/design.md "Layers"), the options that build them and
+# every third-party package each needs, found once here for the components that are built.
+# All come from Debian 12's packages. Adding a package to a component is one
+# polder_dependency() line here (and its target_link_libraries() in the module).
+include(PolderComponents)
+
+polder_component(core)
+polder_dependency(core glm CONFIG)
+
+polder_component(terrain)
+
+polder_component(terrain_io IF POLDER_WITH_OPENIMAGEIO)
+polder_dependency(terrain_io OpenImageIO 2.4 CONFIG)
+polder_dependency(terrain_io TIFF)
+
+polder_component(cache)
+
+polder_component(mesh)
+polder_dependency(mesh Threads)
+
 # Mesh import and export (OBJ, PLY ascii/binary; glTF skins and MD2 animation later).
-find_package(assimp 5 CONFIG REQUIRED)
-find_package(PkgConfig REQUIRED)
-pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
-if(POLDER_BUILD_GLFW)
-  find_package(glfw3 3.3 CONFIG REQUIRED)
-endif()
+polder_component(mesh_io IF POLDER_WITH_ASSIMP POLDER_WITH_OPENIMAGEIO)
+polder_dependency(mesh_io assimp 5 CONFIG)
+polder_dependency(mesh_io OpenImageIO 2.4 CONFIG)
 
-# Debian's OpenImageIO target lists /usr/include/opencv4, which exists only with
-# libopencv-dev installed; drop it so generation does not fail without OpenCV.
-get_target_property(_oiio_includes OpenImageIO::OpenImageIO INTERFACE_INCLUDE_DIRECTORIES)
-if(_oiio_includes)
-  list(FILTER _oiio_includes EXCLUDE REGEX "opencv4")
-  set_target_properties(OpenImageIO::OpenImageIO PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_oiio_includes}")
-endif()
-get_target_property(_oiio_util_includes OpenImageIO::OpenImageIO_Util INTERFACE_INCLUDE_DIRECTORIES)
-if(_oiio_util_includes)
-  list(FILTER _oiio_util_includes EXCLUDE REGEX "opencv4")
-  set_target_properties(OpenImageIO::OpenImageIO_Util PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_oiio_util_includes}")
-endif()
+# glad, the GL loader, is generated into the renderer (cmake/PolderGlad.cmake): no package.
+polder_component(render IF POLDER_WITH_GL)
 
+polder_component(query IF POLDER_WITH_EMBREE)
+polder_dependency(query embree 3 CONFIG)
+polder_dependency(query Threads)
+
+polder_component(platform_osmesa IF POLDER_WITH_GL)
+polder_dependency(platform_osmesa OSMesa)
+
+polder_component(platform_glfw IF POLDER_WITH_GL POLDER_BUILD_GLFW)
+polder_dependency(platform_glfw glfw3 3.3 CONFIG)
+
+polder_component(terrain_engine)
+polder_dependency(terrain_engine Threads)
+
+polder_component(scene)
+
+# The terrain frame on the GL renderer.
+polder_component(terrain_draw IF POLDER_WITH_GL)
+
+# The façade: <polder/polder.hpp> and every component this build has.
+polder_component(engine)
+
+# The programs: the demo, the tests and the benchmarks.
 if(POLDER_BUILD_DEMO)
   find_package(CLI11 CONFIG REQUIRED)
   find_package(nlohmann_json 3 CONFIG REQUIRED)

@@ -1,7 +1,12 @@
-# polder_add_library(NAME ALIAS_NAME SOURCES...): one module target with the project's
-# warnings, C++20, a polder:: alias and the module's include/ as its public headers.
+# polder_add_library(NAME SOURCES...): the target of component NAME (declared in
+# cmake/PolderDependencies.cmake) with the project's warnings, C++20, a polder:: alias and
+# the module's include/ as its public headers, installed as install component polder_NAME.
 function(polder_add_library name)
   cmake_parse_arguments(ARG "" "" "SOURCES" ${ARGN})
+  if(NOT POLDER_COMPONENT_${name})
+    message(FATAL_ERROR "polder_add_library(${name}): not a component to build; declare it with "
+                        "polder_component() in cmake/PolderDependencies.cmake")
+  endif()
   add_library(${name} ${ARG_SOURCES})
   add_library(polder::${name} ALIAS ${name})
   set_target_properties(${name} PROPERTIES OUTPUT_NAME polder_${name} EXPORT_NAME ${name}
@@ -11,10 +16,27 @@ function(polder_add_library name)
     $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   polder_target_defaults(${name})
-  set_property(GLOBAL APPEND PROPERTY POLDER_INSTALL_TARGETS ${name})
   if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/include)
-    install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+    install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+            COMPONENT polder_${name})
   endif()
+endfunction()
+
+# polder_add_interface_library(NAME): a component without sources of its own (headers and
+# the components it links), installed like polder_add_library's.
+function(polder_add_interface_library name)
+  if(NOT POLDER_COMPONENT_${name})
+    message(FATAL_ERROR "polder_add_interface_library(${name}): not a component to build")
+  endif()
+  add_library(${name} INTERFACE)
+  add_library(polder::${name} ALIAS ${name})
+  set_target_properties(${name} PROPERTIES EXPORT_NAME ${name})
+  target_compile_features(${name} INTERFACE cxx_std_20)
+  target_include_directories(${name} INTERFACE
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+          COMPONENT polder_${name})
 endfunction()
 
 # Warnings and sanitizers for targets the project builds (never forced on a host).

@@ -1,17 +1,10 @@
-# Script mode: install Polder, build examples/ against the installed package, and run both
-# host programs over the bundled sample for a few frames (ctest runs under a virtual display).
-function(run_step)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE output)
-  if(NOT result EQUAL 0)
-    message(FATAL_ERROR "step failed (${result}): ${ARGN}\n${output}")
-  endif()
-  set(STEP_OUTPUT "${output}" PARENT_SCOPE)
-endfunction()
+# Script mode: build examples/ against the Polder installed in PREFIX and run both host
+# programs over the bundled sample for a few frames (ctest runs under a virtual display).
+include(${CMAKE_CURRENT_LIST_DIR}/run_step.cmake)
 
 file(REMOVE_RECURSE ${WORK_DIR})
-run_step(${CMAKE_COMMAND} --install ${POLDER_BUILD_DIR} --prefix ${WORK_DIR}/prefix)
 run_step(${CMAKE_COMMAND} -S ${EXAMPLES_DIR} -B ${WORK_DIR}/build -G ${GENERATOR}
-         -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix)
+         -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${PREFIX})
 run_step(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 
 run_step(${WORK_DIR}/build/embed_window ${DEM} 20)
