@@ -20,6 +20,8 @@ class DikeStage {
   // a node without a mesh, which then counts as its corners).
   void stitch(std::span<const SelectedNode> cut, std::span<const BlockMesh* const> cutMeshes);
 
+  // False when the last cut could not be stitched (it was not a cut of the layout): no dikes.
+  bool stitched() const { return !m_failed; }
   const DikeMesh& mesh() const { return m_mesh; }
   // Triangles (indices into mesh().vertices) with a vertex on a visible block's side.
   std::span<const std::uint32_t> visibleIndices() const { return m_visibleIndices; }
