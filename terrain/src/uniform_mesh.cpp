@@ -409,6 +409,17 @@ TriangleSoup uniformMeshSoup(const UniformMesh& mesh) {
   return soup;
 }
 
+float soupMaxError(const Heightfield& field, const TriangleSoup& soup) {
+  float worst = 0.0f;
+  for (std::size_t t = 0; t < soup.triangleCount(); ++t) {
+    const GridPoint& a = soup.points[soup.indices[3 * t]];
+    const GridPoint& b = soup.points[soup.indices[3 * t + 1]];
+    const GridPoint& c = soup.points[soup.indices[3 * t + 2]];
+    worst = std::max(worst, dikeTriangleError(field, DikeVertex{a.x, a.y}, DikeVertex{b.x, b.y}, DikeVertex{c.x, c.y}));
+  }
+  return worst;
+}
+
 mesh::TriangleMesh uniformMeshTriangles(const Heightfield& field, const UniformMesh& mesh) {
   auto key = [](int x, int y) { return (std::uint64_t(std::uint32_t(y)) << 32) | std::uint32_t(x); };
   std::vector<std::uint64_t> keys;

@@ -10,7 +10,6 @@
 
 #include <gtest/gtest.h>
 
-#include <polder/terrain/dikes.hpp>
 #include <polder/terrain/generator.hpp>
 #include <polder/terrain/heightfield_crop.hpp>
 #include <polder/terrain/watertight.hpp>
@@ -32,18 +31,8 @@ Heightfield generated(int size, int width, int height, std::uint64_t seed, doubl
   return *crop;
 }
 
-// The largest error of every triangle, measured here from the soup alone.
-float measuredMaxError(const Heightfield& field, const UniformMesh& mesh) {
-  const TriangleSoup soup = uniformMeshSoup(mesh);
-  float worst = 0.0f;
-  for (std::size_t t = 0; t < soup.triangleCount(); ++t) {
-    const GridPoint& a = soup.points[soup.indices[3 * t]];
-    const GridPoint& b = soup.points[soup.indices[3 * t + 1]];
-    const GridPoint& c = soup.points[soup.indices[3 * t + 2]];
-    worst = std::max(worst, dikeTriangleError(field, DikeVertex{a.x, a.y}, DikeVertex{b.x, b.y}, DikeVertex{c.x, c.y}));
-  }
-  return worst;
-}
+// The largest error of every triangle, measured again from the soup alone.
+float measuredMaxError(const Heightfield& field, const UniformMesh& mesh) { return soupMaxError(field, uniformMeshSoup(mesh)); }
 
 void expectWatertight(const Heightfield& field, const UniformMesh& mesh, const char* what) {
   WatertightOptions options;

@@ -87,6 +87,10 @@ Result<UniformMesh> buildUniformMesh(const Heightfield& field, const UniformMesh
 // Every triangle of the mesh in global sample coordinates (for checkWatertight).
 TriangleSoup uniformMeshSoup(const UniformMesh& mesh);
 
+// The largest exact error (dikeTriangleError) of any triangle of a soup on the field's grid:
+// a second measurement, from the triangles alone.
+float soupMaxError(const Heightfield& field, const TriangleSoup& soup);
+
 // The mesh in the world frame (docs/design.md "Coordinates"): each used sample once, at
 // (x * spacingX, y * spacingY, height), with the full-resolution surface's normals
 // (sampleNormal); triangles counter-clockwise seen from above.
