@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -46,6 +48,7 @@ void expectWatertight(const Heightfield& field, const UniformMesh& mesh, const c
 
 TEST(UniformMesh, EveryTriangleIsWithinTheBoundAndTheMeshIsWatertight) {
   const Heightfield field = generated(257, 201, 170, 3, 30.0);
+  std::size_t coarseNodes = 0, splits = 0;
   for (const int k : {3, 5}) {
     for (const double bound : {0.5, 2.0, 8.0, 40.0}) {
       UniformMeshOptions options;
@@ -60,8 +63,13 @@ TEST(UniformMesh, EveryTriangleIsWithinTheBoundAndTheMeshIsWatertight) {
       EXPECT_EQ(measured, mesh->maxErrorM()) << what << ": the reported error is the measured one";
       EXPECT_GT(mesh->stats.dikeTriangles, 0u) << what;
       expectWatertight(field, *mesh, what.c_str());
+      coarseNodes += mesh->nodes.size() - mesh->stats.nodesPerLevel[0];
+      splits += mesh->stats.splitNodes;
     }
   }
+  // Both ways of the cut were taken: coarser nodes kept, and coarse nodes split for their dikes.
+  EXPECT_GT(coarseNodes, 0u);
+  EXPECT_GT(splits, 0u);
 }
 
 TEST(UniformMesh, RoughTerrainPinsDikesAndATinyBoundStillHolds) {
@@ -87,6 +95,31 @@ TEST(UniformMesh, RoughTerrainPinsDikesAndATinyBoundStillHolds) {
     } else {
       EXPECT_GT(mesh->stats.pinnedNodes, 0u) << bound;
       EXPECT_GT(mesh->stats.rounds, 1u) << bound;
+    }
+  }
+}
+
+TEST(UniformMesh, AnySizeAndBlockSizeWorks) {
+  std::uint64_t state = 99;
+  for (const auto& [width, height] : {std::pair{2, 2}, std::pair{2, 9}, std::pair{3, 3}, std::pair{5, 40}, std::pair{34, 34},
+                                      std::pair{35, 67}, std::pair{130, 19}}) {
+    Heightfield field(width, height, 7.0, 11.0);
+    for (std::size_t i = 0; i < field.heights.size(); ++i) {
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      field.heights[i] = float(0.2 * double(i % std::size_t(width))) + float(state >> 40) * (3.0f / float(1 << 24));
+    }
+    for (const int k : {1, 3, 5}) {
+      for (const double bound : {0.01, 1.0}) {
+        UniformMeshOptions options;
+        options.maxErrorM = bound;
+        options.blockK = k;
+        auto mesh = buildUniformMesh(field, options);
+        const std::string what = std::to_string(width) + " x " + std::to_string(height) + ", k " + std::to_string(k) +
+                                 ", bound " + std::to_string(bound);
+        ASSERT_TRUE(mesh.ok()) << what << ": " << mesh.error().message;
+        EXPECT_LE(measuredMaxError(field, *mesh), bound) << what;
+        expectWatertight(field, *mesh, what.c_str());
+      }
     }
   }
 }
