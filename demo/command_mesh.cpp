@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <new>
 #include <string>
 #include <system_error>
 
@@ -159,13 +160,23 @@ void addMeshCommand(CLI::App& app, int& exitCode) {
       app.add_subcommand("mesh", "Write the DEM as one watertight mesh within a vertical error everywhere (for baking)");
   addDemArguments(*command, arguments->dem);
   command->add_option("--max-error", arguments->maxError, "Largest vertical error against the DEM's surface, metres")
-      ->required();
+      ->required()
+      ->type_name("METRES");
   command->add_option("--block", arguments->blockSamples, "Block size in samples: 17, 33, 65 or 129")->capture_default_str();
   command->add_option("--out", arguments->out, "Output mesh (.obj, .ply or .glb)")->required();
   command->add_option("--json", arguments->json, "Write a JSON report here");
   command->add_flag("--finest-blocks", arguments->finestOnly,
                     "Use level-0 blocks only (no coarser quadtree nodes where the terrain allows)");
-  command->callback([arguments, &exitCode] { exitCode = runMesh(*arguments); });
+  command->callback([arguments, &exitCode] {
+    // Checking, converting and writing hold the mesh several times over: a DEM too large for
+    // this machine at this bound ends with a message, not an abort.
+    try {
+      exitCode = runMesh(*arguments);
+    } catch (const std::bad_alloc&) {
+      exitCode = reportError(makeError(ErrorKind::OutOfMemory, "not enough memory for the mesh of " + arguments->dem.path +
+                                                                   " within " + arguments->maxError + " m"));
+    }
+  });
 }
 
 }  // namespace polder::cli
