@@ -25,8 +25,8 @@
 //
 // Cost: about (levels tried) passes of BlockLod::build over the DEM, then a few stitching
 // rounds, each re-extracting only the pinned blocks. Memory: the chosen meshes and per-node
-// choices (a few bytes per node), never a hierarchy per node. Not thread-safe per call;
-// concurrent calls are independent.
+// choices (a few bytes per node), never a hierarchy per node. Runs on the calling thread;
+// concurrent calls share nothing.
 #pragma once
 
 #include <cstddef>
@@ -65,7 +65,7 @@ struct UniformMeshStats {
   std::size_t rounds = 0;          // stitching rounds (1: no dike triangle failed)
   std::size_t pinnedNodes = 0;     // nodes that keep side vertices for their dikes
   std::size_t splitNodes = 0;      // coarse nodes split because of their dikes
-  std::size_t reextractions = 0;   // block extractions after the first
+  std::size_t reextractions = 0;   // block extractions after phase 1's (pins, lowered thresholds, splits)
 };
 
 struct UniformMesh {
