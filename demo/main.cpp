@@ -17,13 +17,14 @@ int main(int argc, char** argv) {
   polder::cli::addBenchCommand(app, exitCode);
   polder::cli::addSimplifyCommand(app, exitCode);
   polder::cli::addSceneCommand(app, exitCode);
+  polder::cli::addMeshCommand(app, exitCode);
   const auto isCommand = [&app](const char* name) {
     for (const CLI::App* command : app.get_subcommands({}))
       if (command->get_name() == name) return true;
     return false;
   };
   if (argc > 1 && argv[1][0] != '-' && !isCommand(argv[1])) {
-    std::fprintf(stderr, "polder: error: unknown command '%s' (commands: info, gen, render, query, flyover, bench, simplify, scene; see --help)\n",
+    std::fprintf(stderr, "polder: error: unknown command '%s' (commands: info, gen, render, query, flyover, bench, simplify, scene, mesh; see --help)\n",
                  argv[1]);
     return polder::cli::kExitUsage;
   }

@@ -983,25 +983,56 @@ Status buildDikes(const BlockLayout& layout, std::span<const DikeBlock> blocks, 
   return status;
 }
 
+int sidesBesideDikeTriangle(const BlockMesh& mesh, const SampleRect& triangle, SideRange out[2]) {
+  const int s = mesh.footprint.stride;
+  const int x0 = mesh.footprint.x0, y0 = mesh.footprint.y0;
+  const int x1 = x0 + mesh.cellsX * s, y1 = y0 + mesh.cellsY * s;
+  auto range = [s](BlockEdge side, int lo, int hi, int origin, int cells) {
+    return SideRange{side, std::clamp((lo - origin) / s, 0, cells), std::clamp((hi - origin + s - 1) / s, 0, cells)};
+  };
+  int count = 0;
+  // The triangle lies in the gap network, outside every interior: beside a side it touches.
+  if (triangle.x1 <= x0 || triangle.x0 >= x1)
+    out[count++] = range(triangle.x1 <= x0 ? BlockEdge::West : BlockEdge::East, std::max(triangle.y0, y0),
+                         std::min(triangle.y1, y1), y0, mesh.cellsY);
+  if (triangle.y1 <= y0 || triangle.y0 >= y1)
+    out[count++] = range(triangle.y1 <= y0 ? BlockEdge::South : BlockEdge::North, std::max(triangle.x0, x0),
+                         std::min(triangle.x1, x1), x0, mesh.cellsX);
+  return count;
+}
+
 // ---- errors ----------------------------------------------------------------------------------
 
-float dikeTriangleError(const Heightfield& field, const DikeVertex& a, const DikeVertex& b, const DikeVertex& c) {
-  const DikeVertex* v[3] = {&a, &b, &c};
+namespace {
+
+// The plane z = c0 + gx x + gy y through a triangle's three samples; false when it has no area.
+struct SamplePlane {
+  double c0 = 0.0, gx = 0.0, gy = 0.0;
+  double det = 0.0;  // twice the signed area
+};
+
+bool planeThrough(const Heightfield& field, const DikeVertex* const v[3], SamplePlane& plane) {
   double z[3];
   for (int k = 0; k < 3; ++k) {
     assert(v[k]->x >= 0 && v[k]->x < field.width && v[k]->y >= 0 && v[k]->y < field.height &&
            "dikeTriangleError: a vertex outside the field");
     z[k] = double(field.at(v[k]->x, v[k]->y));
   }
-  // Plane z = c0 + gx x + gy y through the three vertices.
   const double e1x = v[1]->x - v[0]->x, e1y = v[1]->y - v[0]->y, e2x = v[2]->x - v[0]->x, e2y = v[2]->y - v[0]->y;
-  const double det = e1x * e2y - e1y * e2x;
-  if (det == 0.0) return 0.0f;
+  plane.det = e1x * e2y - e1y * e2x;
+  if (plane.det == 0.0) return false;
   const double dz1 = z[1] - z[0], dz2 = z[2] - z[0];
-  const double gx = (dz1 * e2y - dz2 * e1y) / det, gy = (e1x * dz2 - e2x * dz1) / det;
-  const double c0 = z[0] - gx * v[0]->x - gy * v[0]->y;
+  plane.gx = (dz1 * e2y - dz2 * e1y) / plane.det;
+  plane.gy = (e1x * dz2 - e2x * dz1) / plane.det;
+  plane.c0 = z[0] - plane.gx * v[0]->x - plane.gy * v[0]->y;
+  return true;
+}
+
+// Largest |sample - plane| over the samples in the closed triangle.
+double sampleError(const Heightfield& field, const DikeVertex* const v[3], const SamplePlane& plane) {
+  const double c0 = plane.c0, gx = plane.gx, gy = plane.gy;
   const int yMin = std::min({v[0]->y, v[1]->y, v[2]->y}), yMax = std::max({v[0]->y, v[1]->y, v[2]->y});
-  const double sign = det > 0 ? 1.0 : -1.0;  // half-planes of a clockwise triangle flip
+  const double sign = plane.det > 0 ? 1.0 : -1.0;  // half-planes of a clockwise triangle flip
   double err = 0.0;
   for (int y = yMin; y <= yMax; ++y) {
     // The closed triangle's row: the intersection of its three edges' half-planes
@@ -1030,12 +1061,30 @@ float dikeTriangleError(const Heightfield& field, const DikeVertex& a, const Dik
     const double base = c0 + gy * y;
     for (int x = x0; x <= x1; ++x) err = std::max(err, std::fabs(double(row[x]) - (base + gx * x)));
   }
+  return err;
+}
+
+}  // namespace
+
+float dikeTriangleError(const Heightfield& field, const DikeVertex& a, const DikeVertex& b, const DikeVertex& c) {
+  const DikeVertex* const v[3] = {&a, &b, &c};
+  SamplePlane plane;
+  if (!planeThrough(field, v, plane)) return 0.0f;
+  double err = sampleError(field, v, plane);
   // The surface is piecewise linear too, so the difference is largest at a vertex of the
   // two triangulations' overlay: a sample in the triangle (above) or a point where a
   // triangle edge crosses a cell edge (x or y integer) or a cell diagonal (x + y integer,
   // heightfield.hpp's cut from (x+1, y) to (x, y+1)).
-  for (int e = 0; e < 3; ++e) err = std::max(err, edgeCrossingError(field, *v[e], *v[(e + 1) % 3], c0, gx, gy));
+  for (int e = 0; e < 3; ++e)
+    err = std::max(err, edgeCrossingError(field, *v[e], *v[(e + 1) % 3], plane.c0, plane.gx, plane.gy));
   return roundUp(err);
+}
+
+float triangleSampleError(const Heightfield& field, const DikeVertex& a, const DikeVertex& b, const DikeVertex& c) {
+  const DikeVertex* const v[3] = {&a, &b, &c};
+  SamplePlane plane;
+  if (!planeThrough(field, v, plane)) return 0.0f;
+  return roundUp(sampleError(field, v, plane));
 }
 
 float dikeTriangleErrors(const Heightfield& field, const DikeMesh& dikes, std::vector<float>* perTriangle) {

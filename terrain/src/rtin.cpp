@@ -728,12 +728,16 @@ void BlockLod::emit(Active& active, BlockMesh& out, RtinScratch& scratch) const 
   for (const GridVertex& v : out.vertices) remap[std::size_t(v.j) * side + v.i] = kNoVertex;
 }
 
-void BlockLod::extractThreshold(float maxError, BlockMesh& out, RtinScratch& scratch) const {
+void BlockLod::extractThreshold(float maxError, BlockMesh& out, RtinScratch& scratch, const BoundaryPins* pins) const {
   assert(!std::isnan(maxError) && "BlockLod::extractThreshold: maxError is NaN");
   const int side = m_footprint.verticesPerSide();
+  const bool pinned = pins && pins->any();
+  if (pinned) markPinned(*pins, scratch);
+  const std::uint8_t* marked = scratch.m_state.data();
   auto active = [&](int i, int j) {
-    const float e = m_error[std::size_t(j) * side + i];
-    return e > maxError || e == kForced;
+    const std::size_t v = std::size_t(j) * side + i;
+    const float e = m_error[v];
+    return e > maxError || e == kForced || (pinned && marked[v] != 0);
   };
   emit(active, out, scratch);
 }

@@ -1,9 +1,13 @@
 // Runs the real polder program: what a user sees, exit codes included.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <iterator>
+#include <limits>
 #include <fstream>
 #include <map>
 #include <set>
@@ -14,6 +18,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <polder/mesh_io/mesh_file.hpp>
 #include <polder/terrain/dem_reader.hpp>
 #include <polder/terrain/image_writer.hpp>
 
@@ -410,8 +415,166 @@ TEST(PolderScene, BadSceneFilesNameTheFileAndTheKey) {
   EXPECT_EQ(run.exitCode, 2) << run.output;
 }
 
+// ---- polder mesh ----------------------------------------------------------------------------
+
+// A .glb's two chunks: the JSON and the binary buffer (glTF 2.0, "Binary glTF Layout").
+struct GlbFile {
+  std::uint32_t magic = 0, version = 0, length = 0;
+  nlohmann::json json;
+  std::string binary;
+};
+
+GlbFile readGlb(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  GlbFile glb;
+  auto word = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    for (int k = 3; k >= 0; --k) v = (v << 8) | std::uint8_t(bytes.at(at + std::size_t(k)));
+    return v;
+  };
+  glb.magic = word(0);
+  glb.version = word(4);
+  glb.length = word(8);
+  EXPECT_EQ(glb.length, bytes.size());
+  const std::uint32_t jsonLength = word(12);
+  EXPECT_EQ(word(16), 0x4E4F534Au) << "JSON chunk first";
+  EXPECT_EQ(jsonLength % 4, 0u);
+  glb.json = nlohmann::json::parse(bytes.substr(20, jsonLength));
+  const std::size_t bin = 20 + jsonLength;
+  EXPECT_EQ(word(bin + 4), 0x004E4942u) << "then the BIN chunk";
+  glb.binary = bytes.substr(bin + 8, word(bin));
+  EXPECT_EQ(bin + 8 + glb.binary.size(), bytes.size());
+  return glb;
+}
+
+std::size_t filesIn(const std::filesystem::path& folder) {
+  return std::size_t(std::distance(std::filesystem::directory_iterator(folder), std::filesystem::directory_iterator()));
+}
+
+TEST_F(PolderProgram, MeshWritesEveryFormatWithinTheBoundAndReportsIt) {
+  ScratchDir dir;
+  const std::string json = dir.file("mesh.json").string();
+  std::size_t previous = std::numeric_limits<std::size_t>::max();
+  for (const double bound : {0.5, 2.0, 8.0}) {
+    const std::string obj = dir.file("mesh.obj").string();
+    const ProgramRun run =
+        runPolder("mesh " + dem() + " --max-error " + std::to_string(bound) + " --out " + obj + " --json " + json);
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    std::ifstream in(json);
+    const auto report = nlohmann::json::parse(in);
+    for (const char* key : {"triangles", "block_triangles", "dike_triangles", "max_error_m", "max_error_bound_m", "watertight",
+                            "build_s", "total_s", "nodes_per_level", "full_resolution_triangles"})
+      EXPECT_TRUE(report.contains(key)) << key;
+    EXPECT_LE(report["max_error_m"].get<double>(), bound);
+    EXPECT_GT(report["max_error_m"].get<double>(), 0.0);
+    EXPECT_TRUE(report["watertight"]["ok"].get<bool>());
+    EXPECT_EQ(report["watertight"]["open_edges"], 0);
+    EXPECT_EQ(report["watertight"]["t_junctions"], 0);
+    const std::size_t triangles = report["triangles"].get<std::size_t>();
+    EXPECT_EQ(triangles, report["block_triangles"].get<std::size_t>() + report["dike_triangles"].get<std::size_t>());
+    EXPECT_LT(triangles, previous) << "a looser bound needs fewer triangles";
+    previous = triangles;
+    auto read = mesh_io::readMesh(obj);
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    EXPECT_EQ(read->triangleCount(), triangles);
+    EXPECT_EQ(read->vertexCount(), report["vertices"].get<std::size_t>());
+  }
+
+  const std::string ply = dir.file("mesh.ply").string(), glb = dir.file("mesh.glb").string();
+  ASSERT_EQ(runPolder("mesh " + dem() + " --max-error 2 --block 65 --out " + ply + " --json " + json).exitCode, 0);
+  std::size_t triangles = 0;
+  {
+    std::ifstream in(json);
+    triangles = nlohmann::json::parse(in)["triangles"].get<std::size_t>();
+  }
+  auto read = mesh_io::readMesh(ply);
+  ASSERT_TRUE(read.ok()) << read.error().message;
+  EXPECT_EQ(read->triangleCount(), triangles);
+  // The DEM's heights, at its samples' positions.
+  auto field = terrain::readDem(dem());
+  ASSERT_TRUE(field.ok());
+  for (const glm::vec3& p : read->positions) {
+    const int x = int(std::lround(p.x / field->field.spacingX)), y = int(std::lround(p.y / field->field.spacingY));
+    ASSERT_NEAR(p.z, field->field.at(x, y), 1e-3);
+  }
+
+  ASSERT_EQ(runPolder("mesh " + dem() + " --max-error 2 --block 65 --out " + glb).exitCode, 0);
+  const GlbFile file = readGlb(glb);
+  EXPECT_EQ(file.magic, 0x46546C67u);
+  EXPECT_EQ(file.version, 2u);
+  EXPECT_EQ(file.json["asset"]["version"], "2.0");
+  const auto& primitive = file.json["meshes"][0]["primitives"][0];
+  EXPECT_EQ(primitive["mode"], 4);
+  const auto& accessors = file.json["accessors"];
+  const auto& indices = accessors[primitive["indices"].get<int>()];
+  const auto& positions = accessors[primitive["attributes"]["POSITION"].get<int>()];
+  EXPECT_EQ(indices["count"].get<std::size_t>(), 3 * triangles);
+  EXPECT_EQ(indices["componentType"], 5125);
+  EXPECT_EQ(positions["count"].get<std::size_t>(), read->vertexCount());
+  EXPECT_EQ(positions["type"], "VEC3");
+  EXPECT_TRUE(positions.contains("min") && positions.contains("max"));
+  EXPECT_NEAR(positions["max"][0].get<double>(), (field->field.width - 1) * field->field.spacingX, 1e-2);
+  // Every buffer view inside the buffer, the buffer the BIN chunk, every index in range.
+  std::size_t end = 0;
+  for (const auto& view : file.json["bufferViews"])
+    end = std::max(end, view["byteOffset"].get<std::size_t>() + view["byteLength"].get<std::size_t>());
+  EXPECT_EQ(end, file.json["buffers"][0]["byteLength"].get<std::size_t>());
+  EXPECT_EQ(end, file.binary.size());
+  const auto& indexView = file.json["bufferViews"][indices["bufferView"].get<int>()];
+  std::uint32_t largest = 0;
+  for (std::size_t i = 0; i < 3 * triangles; ++i) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, file.binary.data() + indexView["byteOffset"].get<std::size_t>() + 4 * i, 4);
+    largest = std::max(largest, v);
+  }
+  EXPECT_EQ(largest + 1, read->vertexCount());
+  EXPECT_EQ(filesIn(dir.path()), 4u) << "mesh.obj, mesh.ply, mesh.glb, mesh.json: no temporary files left";
+}
+
+TEST_F(PolderProgram, MeshBadInputGetsAClearMessageExitCodeAndNoFile) {
+  ScratchDir dir;
+  const std::string out = dir.file("out.obj").string();
+  const std::vector<BadInput> cases = {
+      {"zero", "--max-error 0 --out " + out, 2, "--max-error"},
+      {"negative", "--max-error=-3 --out " + out, 2, "--max-error"},
+      {"nan", "--max-error nan --out " + out, 2, "--max-error"},
+      {"inf", "--max-error inf --out " + out, 2, "--max-error"},
+      {"absurd", "--max-error 1e300 --out " + out, 2, "--max-error"},
+      {"below a millimetre", "--max-error 1e-9 --out " + out, 2, "--max-error"},
+      {"not a number", "--max-error two --out " + out, 2, "--max-error"},
+      {"bad block", "--max-error 1 --block 30 --out " + out, 2, "--block"},
+      {"block past the layout", "--max-error 1 --block 257 --out " + out, 2, "--block"},
+      {"unknown extension", "--max-error 1 --out " + dir.file("out.stl").string(), 2, "out.stl"},
+      {"no extension", "--max-error 1 --out " + dir.file("out").string(), 2, "--out"},
+      {"missing folder", "--max-error 1 --out /nonexistent/folder/out.obj", 1, "/nonexistent/folder/out.obj"},
+      {"missing report folder", "--max-error 1 --out " + out + " --json /nonexistent/r.json", 1, "/nonexistent/r.json"},
+  };
+  for (const auto& c : cases) {
+    const ProgramRun run = runPolder("mesh " + dem() + " " + c.arguments);
+    EXPECT_EQ(run.exitCode, c.exitCode) << c.name << ": " << run.output;
+    EXPECT_NE(run.output.find(c.mentions), std::string::npos) << c.name << " should mention '" << c.mentions << "': " << run.output;
+    EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << c.name << ": one line: " << run.output;
+  }
+  const ProgramRun noBound = runPolder("mesh " + dem() + " --out " + out);
+  EXPECT_EQ(noBound.exitCode, 2) << noBound.output;
+  EXPECT_NE(noBound.output.find("--max-error"), std::string::npos) << noBound.output;
+  const ProgramRun missing = runPolder("mesh /nonexistent/dem.png --max-error 1 --out " + out);
+  EXPECT_EQ(missing.exitCode, 1) << missing.output;
+  EXPECT_NE(missing.output.find("/nonexistent/dem.png"), std::string::npos) << missing.output;
+  EXPECT_EQ(filesIn(dir.path()), 0u) << "no output, partial or whole";
+
+  // A folder that exists but cannot be written (a file in the way of the name): nothing left.
+  const std::filesystem::path blocked = dir.file("blocked.obj");
+  std::filesystem::create_directory(blocked);
+  const ProgramRun run = runPolder("mesh " + dem() + " --max-error 1 --out " + blocked.string());
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_NE(run.output.find("blocked.obj"), std::string::npos) << run.output;
+  EXPECT_EQ(filesIn(dir.path()), 1u) << "only the folder in the way";
+}
+
 TEST(PolderProgramHelp, EverySubcommandHasHelp) {
-  for (const char* command : {"info", "gen", "render", "query", "flyover", "bench", "simplify", "scene"}) {
+  for (const char* command : {"info", "gen", "render", "query", "flyover", "bench", "simplify", "scene", "mesh"}) {
     const ProgramRun run = runPolder(std::string(command) + " --help");
     EXPECT_EQ(run.exitCode, 0) << command << ": " << run.output;
     EXPECT_NE(run.output.find("Usage"), std::string::npos) << command;

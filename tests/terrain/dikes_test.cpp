@@ -699,5 +699,68 @@ TEST(Dikes, BoundsAgreeAndPlanesAreExact) {
   EXPECT_EQ(errors.size(), frame.dikes.triangleCount());
 }
 
+// The sides a dike triangle lies beside, for pins: rounded outwards to the stride, clamped to
+// the side, none where the triangle overlaps the interior's rows and columns alike.
+TEST(Dikes, SidesBesideADikeTriangle) {
+  BlockMesh mesh;
+  mesh.footprint = BlockFootprint{66, 132, 5, 2};  // interior [66, 130] x [132, 196] at stride 2
+  mesh.cellsX = 32;
+  mesh.cellsY = 32;
+  SideRange sides[2];
+  ASSERT_EQ(sidesBesideDikeTriangle(mesh, SampleRect{130, 139, 132, 144}, sides), 1);  // east gap, rows 139..144
+  EXPECT_EQ(sides[0].side, BlockEdge::East);
+  EXPECT_EQ(sides[0].from, 3);
+  EXPECT_EQ(sides[0].to, 6);
+  ASSERT_EQ(sidesBesideDikeTriangle(mesh, SampleRect{64, 100, 66, 140}, sides), 1);  // west, reaching south of it
+  EXPECT_EQ(sides[0].side, BlockEdge::West);
+  EXPECT_EQ(sides[0].from, 0);
+  EXPECT_EQ(sides[0].to, 4);
+  ASSERT_EQ(sidesBesideDikeTriangle(mesh, SampleRect{130, 196, 133, 198}, sides), 2);  // the north-east corner
+  EXPECT_EQ(sides[0].side, BlockEdge::East);
+  EXPECT_EQ(sides[0].from, 32);
+  EXPECT_EQ(sides[0].to, 32);
+  EXPECT_EQ(sides[1].side, BlockEdge::North);
+  EXPECT_EQ(sides[1].from, 32);
+  EXPECT_EQ(sides[1].to, 32);
+  ASSERT_EQ(sidesBesideDikeTriangle(mesh, SampleRect{125, 196, 133, 198}, sides), 1);  // north, past the corner
+  EXPECT_EQ(sides[0].side, BlockEdge::North);
+  EXPECT_EQ(sides[0].from, 29);
+  EXPECT_EQ(sides[0].to, 32);
+  EXPECT_EQ(sidesBesideDikeTriangle(mesh, SampleRect{100, 150, 101, 151}, sides), 0);  // inside: beside nothing
+}
+
+// The samples-only error: every sample in the closed triangle (found here by orientation
+// tests), never above the exact error, which also looks between the samples.
+TEST(Dikes, SampleErrorScansTheSamplesOnly) {
+  const Heightfield field = makeField(60, 50, 21);
+  std::mt19937_64 rng(8);
+  std::uniform_int_distribution<int> px(0, 59), py(0, 49);
+  int strictlyBelow = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const DikeVertex a{px(rng), py(rng)}, b{px(rng), py(rng)}, c{px(rng), py(rng)};
+    const std::int64_t area = std::int64_t(b.x - a.x) * (c.y - a.y) - std::int64_t(b.y - a.y) * (c.x - a.x);
+    if (area == 0) continue;
+    const double gx = ((field.at(b.x, b.y) - double(field.at(a.x, a.y))) * (c.y - a.y) -
+                       (field.at(c.x, c.y) - double(field.at(a.x, a.y))) * (b.y - a.y)) / double(area);
+    const double gy = ((b.x - a.x) * (field.at(c.x, c.y) - double(field.at(a.x, a.y))) -
+                       (c.x - a.x) * (field.at(b.x, b.y) - double(field.at(a.x, a.y)))) / double(area);
+    double expected = 0.0;
+    for (int y = 0; y < field.height; ++y)
+      for (int x = 0; x < field.width; ++x) {
+        auto side = [&](DikeVertex p, DikeVertex q) {
+          return (std::int64_t(q.x - p.x) * (y - p.y) - std::int64_t(q.y - p.y) * (x - p.x)) * (area > 0 ? 1 : -1);
+        };
+        if (side(a, b) < 0 || side(b, c) < 0 || side(c, a) < 0) continue;
+        const double plane = field.at(a.x, a.y) + gx * (x - a.x) + gy * (y - a.y);
+        expected = std::max(expected, std::abs(double(field.at(x, y)) - plane));
+      }
+    const float samples = triangleSampleError(field, a, b, c), exact = dikeTriangleError(field, a, b, c);
+    EXPECT_NEAR(samples, expected, 1e-4 * (1.0 + expected)) << trial;
+    EXPECT_LE(samples, exact) << trial;
+    strictlyBelow += samples < exact;
+  }
+  EXPECT_GT(strictlyBelow, 10) << "the surface between samples matters";
+}
+
 }  // namespace
 }  // namespace polder::terrain

@@ -1083,6 +1083,41 @@ TEST(Rtin, PinnedSideVerticesAreKeptAndTheMeshStaysConforming) {
 
 // Pins at the coarsest view: a single pinned position in the middle of the south side pulls in
 // exactly its chain of apexes, and the mesh stays conforming.
+// Threshold extraction with pins (what the uniform-error mesh uses): the threshold's mesh
+// plus the pins and what they depend on, still conforming and within the threshold.
+TEST(Rtin, PinnedThresholdExtractionRefinesTheThresholdMesh) {
+  std::mt19937 rng(777u);
+  for (const PinCase& cs : {PinCase{Shape::Fractal, 5, 1, 32, 32}, PinCase{Shape::Sines, 4, 2, 16, 16},
+                            PinCase{Shape::Random, 5, 1, 13, 21}}) {
+    const int n = 1 << cs.k;
+    const Heightfield field = makeField(cs.shape, cs.cellsX * cs.stride + 1, cs.cellsY * cs.stride + 1, 99u + unsigned(cs.k));
+    auto built = BlockLod::build(field, BlockFootprint{0, 0, cs.k, cs.stride});
+    ASSERT_TRUE(built.ok()) << built.error().message;
+    BlockMesh plain, pinned;
+    RtinScratch scratch;
+    for (int trial = 0; trial < 8; ++trial) {
+      const float threshold = built->maxError() * float(trial + 1) / 10.0f;
+      const BoundaryPins pins = randomPins(rng, n);
+      built->extractThreshold(threshold, plain, scratch);
+      built->extractThreshold(threshold, pinned, scratch, &pins);
+      expectConforming(pinned);
+      if (HasFatalFailure()) return;
+      expectHonest(field, pinned);
+      EXPECT_LE(pinned.maxError, std::max(threshold, built->floorError()));
+      const VertexSet plainSet = vertexSet(plain), pinnedSet = vertexSet(pinned);
+      EXPECT_TRUE(std::includes(pinnedSet.begin(), pinnedSet.end(), plainSet.begin(), plainSet.end()));
+      for (int side = 0; side < 4; ++side) {
+        const BlockEdge which = BlockEdge(side);
+        const int length = (which == BlockEdge::South || which == BlockEdge::North) ? cs.cellsX : cs.cellsY;
+        for (int p = 0; p <= length; ++p)
+          if (pins.pinned(which, p)) EXPECT_EQ(pinnedSet.count(sideVertex(which, p, cs.cellsX, cs.cellsY)), 1u) << side << " " << p;
+      }
+      built->extractThreshold(threshold, plain, scratch, nullptr);  // the marks do not leak into the next one
+      EXPECT_EQ(vertexSet(plain), plainSet);
+    }
+  }
+}
+
 TEST(Rtin, OnePinRefinesOnlyItsDependencyChain) {
   const Block block = makeBlock(Shape::Fractal, 5, 1, 61u);
   const BlockLod& lod = block.lod;

@@ -1,4 +1,4 @@
-// writeMesh: OBJ and PLY written by hand (exact numbers, see float_text.hpp), then put in
+// writeMesh: OBJ, PLY and glTF binary written by hand (exact numbers, see float_text.hpp), then put in
 // place with a rename.
 #include <polder/mesh_io/mesh_file.hpp>
 
@@ -17,16 +17,20 @@
 #include <new>
 #include <random>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <thread>
 #include <vector>
 
 #include "float_text.hpp"
+#include "glb_writer.hpp"
+#include "little_endian.hpp"
 #include "mesh_format.hpp"
 
 namespace polder::mesh_io {
 namespace {
 
+using detail::appendLittleEndian;
 using mesh::TriangleMesh;
 
 void appendIndex(std::string& out, std::uint64_t value) {
@@ -80,13 +84,6 @@ std::string objText(const TriangleMesh& mesh) {
     out += '\n';
   }
   return out;
-}
-
-template <class T>
-void appendLittleEndian(std::string& out, T value) {
-  auto bits = std::bit_cast<std::array<char, sizeof(T)>>(value);
-  if constexpr (std::endian::native == std::endian::big) std::reverse(bits.begin(), bits.end());
-  out.append(bits.data(), bits.size());
 }
 
 std::string plyText(const TriangleMesh& mesh, bool binary) {
@@ -149,7 +146,7 @@ std::filesystem::path temporaryName(const std::filesystem::path& file) {
   return temporary;
 }
 
-Status writeReplacing(const std::filesystem::path& file, const std::string& bytes) {
+Status writeReplacing(const std::filesystem::path& file, std::string_view bytes) {
   const std::filesystem::path temporary = temporaryName(file);
   std::error_code ignored;
   {
@@ -189,19 +186,34 @@ Status checkWritable(const TriangleMesh& mesh, const std::string& name) {
 
 Status writeMeshUnguarded(const std::filesystem::path& file, const TriangleMesh& mesh, const MeshWriteOptions& options) {
   const std::string name = file.string();
-  const Result<detail::MeshFormat> format = detail::meshFormatOf(file);
+  const Result<detail::MeshFormat> format = detail::meshFormatOf(file, true);
   if (!format) return makeError(format.error().kind, name + ": " + format.error().message);
   if (Status writable = checkWritable(mesh, name); !writable) return writable;
   const bool ply = *format == detail::MeshFormat::Ply;
   if (ply && mesh.vertexCount() > std::uint64_t(std::numeric_limits<std::int32_t>::max()))
     return makeError(ErrorKind::Unsupported, name + ": more vertices than PLY int indices can address");
-  const std::string bytes = ply ? plyText(mesh, options.binary) : objText(mesh);
-  if (Status written = writeReplacing(file, bytes); !written)
-    return makeError(written.error().kind, name + ": " + written.error().message);
-  return {};
+  std::string bytes;
+  if (*format == detail::MeshFormat::Glb) {
+    Result<std::string> glb = detail::glbBytes(mesh);
+    if (!glb) return makeError(glb.error().kind, name + ": " + glb.error().message);
+    bytes = std::move(*glb);
+  } else {
+    bytes = ply ? plyText(mesh, options.binary) : objText(mesh);
+  }
+  return writeFileReplacing(file, bytes);
 }
 
 }  // namespace
+
+Status writeFileReplacing(const std::filesystem::path& file, std::string_view bytes) {
+  try {
+    if (Status written = writeReplacing(file, bytes); !written)
+      return makeError(written.error().kind, file.string() + ": " + written.error().message);
+    return {};
+  } catch (const std::exception& exception) {
+    return makeError(ErrorKind::Io, file.string() + ": " + exception.what());
+  }
+}
 
 Status writeMesh(const std::filesystem::path& file, const TriangleMesh& mesh, const MeshWriteOptions& options) {
   // Formatting allocates; nothing may escape the API as an exception.

@@ -79,24 +79,10 @@ bool DikeCheck::pinAround(std::uint32_t node, int tx0, int ty0, int tx1, int ty1
                           std::span<const terrain::BlockMesh* const> cutMeshes, cache::LodCache& cache) {
   const terrain::BlockMesh* mesh = cutMeshes[node];
   if (!mesh) return false;
-  const terrain::BlockFootprint& fp = mesh->footprint;
-  const int s = fp.stride;
-  const int x0 = fp.x0, y0 = fp.y0, x1 = fp.x0 + mesh->cellsX * s, y1 = fp.y0 + mesh->cellsY * s;
-  auto span = [s](int lo, int hi, int origin, int cells) {
-    return std::pair<int, int>{std::clamp((lo - origin) / s, 0, cells),
-                               std::clamp((hi - origin + s - 1) / s, 0, cells)};
-  };
+  terrain::SideRange sides[2];
+  const int count = terrain::sidesBesideDikeTriangle(*mesh, terrain::SampleRect{tx0, ty0, tx1, ty1}, sides);
   bool added = false;
-  const terrain::NodeId id = cut[node].node;
-  // The triangle lies in the gap network, outside every interior: beside a side it touches.
-  if (tx1 <= x0 || tx0 >= x1) {
-    const auto [from, to] = span(std::max(ty0, y0), std::min(ty1, y1), y0, mesh->cellsY);
-    added |= cache.pin(id, tx1 <= x0 ? terrain::BlockEdge::West : terrain::BlockEdge::East, from, to);
-  }
-  if (ty1 <= y0 || ty0 >= y1) {
-    const auto [from, to] = span(std::max(tx0, x0), std::min(tx1, x1), x0, mesh->cellsX);
-    added |= cache.pin(id, ty1 <= y0 ? terrain::BlockEdge::South : terrain::BlockEdge::North, from, to);
-  }
+  for (int i = 0; i < count; ++i) added |= cache.pin(cut[node].node, sides[i].side, sides[i].from, sides[i].to);
   if (added && urgent && !m_nodeRepinned[node]) {
     m_nodeRepinned[node] = 1;
     m_repinned.push_back(node);

@@ -22,6 +22,8 @@ class DikeStage {
   // same and are kept as they are: returns false then, true when it stitched.
   bool stitch(std::span<const SelectedNode> cut, std::span<const BlockMesh* const> cutMeshes);
 
+  // False when the last cut could not be stitched (it was not a cut of the layout): no dikes.
+  bool stitched() const { return !m_failed; }
   const DikeMesh& mesh() const { return m_mesh; }
   // Triangles (indices into mesh().vertices) with a vertex on a visible block's side, or
   // owned by a visible block.

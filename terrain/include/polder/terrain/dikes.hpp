@@ -207,6 +207,18 @@ class DikeScratch {
 // on these inputs). Allocates only where `out` or `scratch` lack room (see reserve()).
 Status buildDikes(const BlockLayout& layout, std::span<const DikeBlock> blocks, DikeMesh& out, DikeScratch& scratch);
 
+// The side positions of a block a dike triangle lies beside, for BoundaryPins: where the
+// triangle (bounding box `triangle`, full-resolution samples) lies in the gap east or west of
+// `mesh`'s interior, its West or East side over the box's rows, rounded outwards to the
+// stride; likewise South or North over its columns. Keeping those side vertices refines the
+// dike there (the engine's dike check, uniformMesh). At most two sides; returns how many.
+struct SideRange {
+  BlockEdge side = BlockEdge::South;
+  int from = 0;  // positions along the side (BoundaryPins), inclusive
+  int to = 0;
+};
+int sidesBesideDikeTriangle(const BlockMesh& mesh, const SampleRect& triangle, SideRange out[2]);
+
 // ---- errors --------------------------------------------------------------------------------
 
 // Exact vertical error of every dike triangle against the full-resolution surface, as
@@ -221,6 +233,9 @@ float dikeTriangleErrors(const Heightfield& field, const DikeMesh& dikes, std::v
 // The same for one triangle of full-resolution samples (either winding). Cost: the samples
 // under it plus its edges' lengths.
 float dikeTriangleError(const Heightfield& field, const DikeVertex& a, const DikeVertex& b, const DikeVertex& c);
+// The samples-only part of it: the largest |sample - plane| over the samples in the closed
+// triangle, what greedy and RTIN terrain simplifiers measure (a lower bound of the exact error).
+float triangleSampleError(const Heightfield& field, const DikeVertex& a, const DikeVertex& b, const DikeVertex& c);
 
 // The samples whose height range bounds every dike triangle a node owns (DikeMesh::owners),
 // whatever the LODs and levels of the frame: the footprints of the node and of its west,

@@ -157,7 +157,8 @@ class BlockLod {
   void extractCount(std::size_t targetTriangles, BlockMesh& out, RtinScratch& scratch) const;
   // (c) Uniform: vertex v is active iff error(v) > maxError (metres). 0 drops every vertex
   // that costs nothing; a negative value keeps every vertex (full detail, 2 * 4^k triangles).
-  void extractThreshold(float maxError, BlockMesh& out, RtinScratch& scratch) const;
+  // `pins` as for extractView: the threshold's mesh refined, so its bound still holds.
+  void extractThreshold(float maxError, BlockMesh& out, RtinScratch& scratch, const BoundaryPins* pins = nullptr) const;
 
   const BlockFootprint& footprint() const { return m_footprint; }
   int cellsX() const { return m_cellsX; }  // the valid sub-rectangle (= 2^k unless clipped)

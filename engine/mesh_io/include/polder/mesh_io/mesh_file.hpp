@@ -32,10 +32,12 @@
 // (bakeTexture for a mesh without texture coordinates), OutOfMemory.
 // Thread-safe: calls on different files may run concurrently.
 //
-// writeMesh picks the format from the extension (.obj or .ply). OBJ stores v (with r g b
+// writeMesh picks the format from the extension (.obj, .ply or .glb). OBJ stores v (with r g b
 // when the mesh has colours; alpha is not stored), vt, vn and f v/vt/vn; PLY stores float
 // x y z, nx ny nz, red green blue alpha, s t and int vertex_indices, ascii or binary little
-// endian. Numbers are written so that readMesh reads back the same floats (an OBJ comes back
+// endian; glTF 2.0 binary stores one primitive of POSITION, NORMAL, COLOR_0, TEXCOORD_0 and
+// uint32 indices, z up turned to glTF's y up by its node's rotation (src/glb_writer.hpp).
+// OBJ and PLY numbers are written so that readMesh reads back the same floats (an OBJ comes back
 // with its vertices in order of first use). The file is written under a temporary name
 // beside it and renamed, so a failed write leaves no partial file. Errors name the file:
 // Unsupported (extension), InvalidArgument (mesh fails validateMesh or has non-finite
@@ -43,6 +45,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string_view>
 
 #include <polder/mesh/triangle_mesh.hpp>
 #include <polder/result.hpp>
@@ -62,5 +65,10 @@ struct MeshWriteOptions {
 };
 
 Status writeMesh(const std::filesystem::path& file, const mesh::TriangleMesh& mesh, const MeshWriteOptions& options = {});
+
+// Writes bytes as writeMesh writes a mesh: under a temporary name beside the file, then
+// renamed, so a failed write leaves no partial file (for reports written beside meshes).
+// Io errors name the file.
+Status writeFileReplacing(const std::filesystem::path& file, std::string_view bytes);
 
 }  // namespace polder::mesh_io
