@@ -26,6 +26,7 @@ struct Camera {
   glm::dvec3 up() const;
 
   double aspect() const { return double(widthPx) / double(heightPx); }
+  friend bool operator==(const Camera&, const Camera&) = default;
 
   // K = viewport_height / (2 tan(fovy/2)): a world-space length e at distance d covers
   // about K * e / d pixels.

@@ -63,6 +63,12 @@ struct TerrainEngine::Impl {
   lod::AllocationScratch allocationScratch{0};
   terrain::DikeStage dikes;
   DikeCheck dikeCheck;
+  struct LastCheck {  // the dike check's last run, for a frame that repeats it exactly
+    Camera camera;
+    double tauPx = 0.0;
+    DikeCheckResult result;
+    bool clean = false;  // nothing to pin or split: the same frame would pass unchanged
+  } lastCheck;
   static constexpr std::size_t kMaxForcedSplits = 64;
   std::vector<terrain::NodeId> forcedSplits;  // SelectionOptions::forcedSplits, reserved
   std::vector<double> forcedSplitDistances;   // camera distance when each was added
@@ -164,9 +170,15 @@ struct TerrainEngine::Impl {
   DikeCheckResult stitchWithinTolerance(const Camera& camera) {
     constexpr int kMaxRounds = 16;
     for (int round = 1;; ++round) {
-      dikesStitched |= dikes.stitch(cut, cutMeshes);
+      const bool stitched = dikes.stitch(cut, cutMeshes);
+      dikesStitched |= stitched;
+      // The same dikes seen from the same camera pass as they passed last time.
+      if (!stitched && lastCheck.clean && camera == lastCheck.camera && options.tauPx == lastCheck.tauPx)
+        return lastCheck.result;
       const DikeCheckResult result = dikeCheck.check(camera, options.tauPx, dikes, cut, cutMeshes, meshes);
-      if (dikeCheck.repinned().empty() || round == kMaxRounds) return result;
+      const bool settled = dikeCheck.repinned().empty();
+      lastCheck = LastCheck{camera, options.tauPx, result, settled && dikeCheck.splits().empty()};
+      if (settled || round == kMaxRounds) return result;
       for (const std::uint32_t i : dikeCheck.repinned()) acquireForError(i, camera);
     }
   }
