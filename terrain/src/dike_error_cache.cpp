@@ -4,6 +4,7 @@
 #include <bit>
 
 #include <polder/mix_bits.hpp>
+#include <polder/terrain/dike_errors.hpp>
 
 namespace polder::terrain {
 

@@ -12,6 +12,7 @@
 
 #include <polder/terrain/block_quadtree.hpp>
 #include <polder/terrain/dike_error_cache.hpp>
+#include <polder/terrain/dike_errors.hpp>
 #include <polder/terrain/dike_stage.hpp>
 #include <polder/terrain/normals.hpp>
 #include <polder/terrain/rtin.hpp>
@@ -203,7 +204,7 @@ class UniformMeshBuilder {
           entry.split = true;
           return;
         }
-        // Emitted triangles start at their right-angle apex (rtin.cpp).
+        // Emitted triangles start at their right-angle apex (rtin_grid.hpp, walkTriangle).
         const float stored = m_lod.triangleError(mesh.vertices[mesh.indices[t]], mesh.vertices[mesh.indices[t + 1]],
                                                  mesh.vertices[mesh.indices[t + 2]]);
         loweredTo = std::min(loweredTo, std::nextafter(stored, -1.0f));

@@ -32,6 +32,7 @@
 #include <nlohmann/json.hpp>
 
 #include <polder/terrain/dem_reader.hpp>
+#include <polder/terrain/dike_errors.hpp>
 #include <polder/terrain/dikes.hpp>
 #include <polder/terrain/heightfield_crop.hpp>
 #include <polder/terrain/uniform_mesh.hpp>

@@ -1,8 +1,8 @@
 // The LOD cache (lod_cache.hpp) and its block-level reuse test (lod_reuse.hpp): reuse under a
 // still or slowly moving camera, rebuilds when the camera closes in or leaves a block behind,
 // the projected-error bound on every frame's meshes (checked by brute force written here,
-// independently of rtin.cpp and lod_cache_reuse.cpp), the byte budget and LRU order, the
-// count mode, and no heap allocation in steady state. Chuang 2001 part B (LOD caching) is what
+// independently of rtin_extract.cpp and lod_cache_reuse.cpp), the byte budget and LRU order,
+// the count mode, and no heap allocation in steady state. Chuang 2001 part B (LOD caching) is what
 // these tests hold the cache to.
 #include <polder/cache/lod_cache.hpp>
 #include <polder/cache/lod_reuse.hpp>

@@ -24,6 +24,7 @@
 #include <gtest/gtest.h>
 
 #include <polder/terrain/block_layout.hpp>
+#include <polder/terrain/dike_errors.hpp>
 #include <polder/terrain/rtin.hpp>
 #include <polder/terrain/watertight.hpp>
 

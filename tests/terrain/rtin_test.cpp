@@ -1,8 +1,8 @@
 // Per-block LOD (rtin.hpp): exact and monotone errors, nested radii, conforming meshes from
 // every extraction, honest reported errors, the view-dependent bound, clipped blocks.
-// Everything is checked against brute force written here, independently of rtin.cpp. The true
-// surface is the full-resolution triangulation of heightfield.hpp (each cell cut from (x+1, y)
-// to (x, y+1)), not only its samples.
+// Everything is checked against brute force written here, independently of rtin_build.cpp and
+// rtin_extract.cpp. The true surface is the full-resolution triangulation of heightfield.hpp
+// (each cell cut from (x+1, y) to (x, y+1)), not only its samples.
 #include <polder/terrain/rtin.hpp>
 
 #include <algorithm>

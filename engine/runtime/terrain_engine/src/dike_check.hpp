@@ -7,7 +7,7 @@
 // yet essential to the dike: without it the strip's cells are cut along their other diagonal,
 // off by half the cell's twist, and a long dike triangle spans rows whose heights bend. No
 // a-priori bound from one side alone holds, since the error depends on both sides' choices
-// (dikes.hpp: an LOD-independent bound is a height range, far too loose to select with).
+// (dike_errors.hpp: an LOD-independent bound is a height range, far too loose to select with).
 //
 // What it does. For each drawn dike triangle T, e(T) is its exact error (dikeTriangleError,
 // remembered across frames in terrain::DikeErrorCache) and d(T) the distance from the camera to T's
@@ -37,6 +37,7 @@
 #include <polder/terrain/block_quadtree.hpp>
 
 #include <polder/terrain/dike_error_cache.hpp>
+#include <polder/terrain/dike_errors.hpp>
 #include <polder/terrain/dike_stage.hpp>
 
 namespace polder {

@@ -30,12 +30,13 @@
 // node at the end; each node's numbers depend only on the node, so the result is the same for
 // any thread count.
 //
-// Dikes. The node's dike strip is drawn by the dikes module (dikes.hpp, dikeErrorBound()),
-// whose bound the caller injects through BlockQuadtreeOptions::dikeErrorBound; the frame
-// pipeline passes the dikes' bound there. Without it the dike term is 0 and delta bounds the
-// node's interior only. The dike bound must also cover the full-resolution samples a clipped
-// interior leaves uncovered at the DEM's east and north edges (fewer than `stride` columns or
-// rows, rtin.hpp "Clipped blocks"): block_layout.hpp counts them as dike.
+// Dikes. The node's dike strip is drawn by the dikes module (dikes.hpp), whose bound
+// (dike_errors.hpp, dikeErrorBound()) the caller injects through
+// BlockQuadtreeOptions::dikeErrorBound; the frame pipeline passes the dikes' bound there.
+// Without it the dike term is 0 and delta bounds the node's interior only. The dike bound
+// must also cover the full-resolution samples a clipped interior leaves uncovered at the DEM's
+// east and north edges (fewer than `stride` columns or rows, rtin.hpp "Clipped blocks"):
+// block_layout.hpp counts them as dike.
 //
 // Nodes that cannot be drawn at their stride. A coarse node at the DEM's east or north edge
 // may have less than one strided cell inside the DEM (e.g. 1 sample column left at stride 4):

@@ -1,4 +1,4 @@
-// Exact vertical errors of dike triangles (terrain/dikes.hpp dikeTriangleError), remembered
+// Exact vertical errors of dike triangles (terrain/dike_errors.hpp dikeTriangleError), remembered
 // across frames. The dikes are re-triangulated every frame, but a triangle's error depends
 // only on its three samples, and from one frame to the next almost every dike triangle is the
 // same, in the same order (the blocks' meshes mostly come from the LOD cache and buildDikes

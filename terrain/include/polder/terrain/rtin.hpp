@@ -211,7 +211,7 @@ class BlockLod {
   float storedTriangleError(int ax, int ay, int bx, int by, int cx, int cy) const;
   // Marks (RtinScratch::m_state) the pinned side vertices and every vertex they depend on.
   void markPinned(const BoundaryPins& pins, RtinScratch& scratch) const;
-  // Error of a half cell: cell (ci, cj), side as triangleSide in rtin.cpp.
+  // Error of a half cell: cell (ci, cj), side as triangleSide in rtin_grid.hpp.
   float leafError(int ci, int cj, int sideIndex) const;
 
   BlockFootprint m_footprint;
@@ -228,7 +228,7 @@ class BlockLod {
   std::vector<float> m_height;         // per vertex
   std::vector<float> m_error;          // per vertex, monotone
   std::vector<float> m_radius;         // per vertex, nested
-  std::vector<float> m_triangleError;  // per vertex, its two triangles (see triangleSide in rtin.cpp)
+  std::vector<float> m_triangleError;  // per vertex, its two triangles (see triangleSide in rtin_grid.hpp)
   std::vector<float> m_leafError;      // per cell, its two half-cell triangles; empty at stride 1 (leafError)
 };
 

@@ -1,20 +1,18 @@
-// Per-block LOD: the right-triangle bintree error hierarchy and its extractions.
+// The error hierarchy of one block (rtin.hpp BlockLod::build): every bintree triangle's exact
+// error, the vertices' monotone errors and nested bounding radii, the block's summaries (node
+// error, floor error, height range), and the queries on them.
 //
 // Follows W. Evans, D. Kirkpatrick, G. Townsend, "Right-triangulated irregular networks"
-// (Algorithmica 2001) for the bintree; P. Lindstrom et al., "Real-time, continuous level of
-// detail rendering of height fields" (SIGGRAPH 1996), R. Pajarola, "Large scale terrain
-// visualization using the restricted quadtree triangulation" (Visualization 1998) and
-// M. Duchaineau et al., "ROAMing terrain" (Visualization 1997) for monotone errors, conforming
-// extraction and greedy refinement; P. Lindstrom, V. Pascucci, "Visualization of large
-// terrains made easy" (Visualization 2001) for nested bounding spheres.
+// (Algorithmica 2001) for the bintree (rtin_grid.hpp); P. Lindstrom et al., "Real-time,
+// continuous level of detail rendering of height fields" (SIGGRAPH 1996), R. Pajarola, "Large
+// scale terrain visualization using the restricted quadtree triangulation" (Visualization 1998)
+// and M. Duchaineau et al., "ROAMing terrain" (Visualization 1997) for monotone errors;
+// P. Lindstrom, V. Pascucci, "Visualization of large terrains made easy" (Visualization 2001)
+// for nested bounding spheres.
 //
-// Layout. Vertex (i, j) of a block with n = 2^k cells per side is the hypotenuse midpoint of
-// the triangles it splits, found from its coordinates alone: with h the lowest set bit of
-// (i | j), a vertex with i/h and j/h both odd is the centre of a square of side 2h (its two
-// triangles share that square's diagonal); otherwise it is the midpoint of an axis-aligned
-// hypotenuse of length 2h (one triangle on the block's side, two inside). Building visits
-// vertices from fine to coarse (h = 1, 2, ...; side midpoints before square centres), so a
-// vertex's children (the midpoints of its triangles' legs) are final when it is reached.
+// Order. Building visits vertices from fine to coarse (h = 1, 2, ...; side midpoints before
+// square centres, rtin_grid.hpp "Layout"), so a vertex's children (the midpoints of its
+// triangles' legs) are final when it is reached.
 //
 // Exact errors. The true surface is the full-resolution triangulation (heightfield.hpp: each
 // cell cut from (x+1, y) to (x, y+1)). A triangle's plane minus that surface is linear on each
@@ -27,14 +25,6 @@
 // of the samples plus, for such an edge, its cell centres (exactTriangleError). At stride 1 that
 // makes the half cells cut south-west to north-east (half of them, in a checkerboard) differ
 // from the surface by the gap between the cell's two cuts at its centre (cellCentreGap).
-//
-// Drawn half cells. So at stride 1 a cell whose two halves are both in the mesh (a diamond) is
-// drawn cut like the surface (walkTriangle): error 0, same four sides, so conformity, the side
-// lists and the neighbours are unchanged. A half cell whose hypotenuse neighbour is the coarser
-// triangle on the other side of the cell's diagonal (that triangle's midpoint, the cell's other
-// corner, is inactive) cannot be flipped without a T-junction there; it keeps the bintree's cut
-// and error, the gap, which that coarser triangle's error (its leg is the same diagonal, crossing
-// the same centre) already bounds, so it never exceeds what the extraction accepted.
 #include <polder/terrain/rtin.hpp>
 
 #include <algorithm>
@@ -48,75 +38,15 @@
 #include <emmintrin.h>
 #endif
 
+#include "rtin_grid.hpp"
+
 namespace polder::terrain {
+using namespace detail;
 namespace {
 
-constexpr std::uint32_t kNoVertex = 0xffffffffu;
-// The error of a vertex that must always be split (a clipped block's straddling triangles).
-constexpr float kForced = std::numeric_limits<float>::infinity();
 // Each nesting step grows a radius by this factor beyond the exact sum, so that rounding in
 // camera distances cannot make a child active while its parent is not.
 constexpr double kRadiusSlack = 1e-6;
-constexpr std::uint8_t kSplitFlag = 0x80;
-
-// A bintree triangle: right-angle apex a, hypotenuse b-c, counter-clockwise seen from above.
-struct Tri {
-  int ax, ay, bx, by, cx, cy;
-};
-
-Tri counterClockwise(int ax, int ay, int px, int py, int qx, int qy) {
-  const long long cross = (long long)(px - ax) * (qy - ay) - (long long)(py - ay) * (qx - ax);
-  return cross > 0 ? Tri{ax, ay, px, py, qx, qy} : Tri{ax, ay, qx, qy, px, py};
-}
-
-// Which of the two triangles on a hypotenuse this one is: 1 when its apex lies east of the
-// hypotenuse's midpoint, or due north of it. Works in doubled coordinates for half cells.
-int triangleSide(int ax, int ay, int bx, int by, int cx, int cy) {
-  const int ax2 = 2 * ax, ay2 = 2 * ay, mx2 = bx + cx, my2 = by + cy;
-  return (ax2 > mx2 || (ax2 == mx2 && ay2 > my2)) ? 1 : 0;
-}
-
-bool isHalfCell(int bx, int cx) { return std::abs(bx - cx) == 1; }
-
-// The triangles that vertex (i, j) splits, in a block of n cells per side (see the top).
-int splitTriangles(int i, int j, int n, Tri out[2]) {
-  if ((i == 0 || i == n) && (j == 0 || j == n)) return 0;
-  const int shift = std::countr_zero(unsigned(i | j));
-  const int h = 1 << shift;
-  const bool iOdd = ((i >> shift) & 1) != 0, jOdd = ((j >> shift) & 1) != 0;
-  if (iOdd && jOdd) {
-    // Square centres alternate their diagonal like a checkerboard, each diagonal pointing at
-    // the centre of the square one level up; the root square uses south-east to north-west.
-    const int qx = (i - h) / (2 * h), qy = (j - h) / (2 * h);
-    const bool southWestToNorthEast = 2 * h != n && ((qx + qy) & 1) == 0;
-    if (southWestToNorthEast) {
-      out[0] = counterClockwise(i + h, j - h, i - h, j - h, i + h, j + h);
-      out[1] = counterClockwise(i - h, j + h, i - h, j - h, i + h, j + h);
-    } else {
-      out[0] = counterClockwise(i - h, j - h, i + h, j - h, i - h, j + h);
-      out[1] = counterClockwise(i + h, j + h, i + h, j - h, i - h, j + h);
-    }
-    return 2;
-  }
-  int count = 0;
-  if (iOdd) {  // hypotenuse runs west-east
-    if (j > 0) out[count++] = counterClockwise(i, j - h, i - h, j, i + h, j);
-    if (j < n) out[count++] = counterClockwise(i, j + h, i - h, j, i + h, j);
-  } else {  // hypotenuse runs south-north
-    if (i > 0) out[count++] = counterClockwise(i - h, j, i, j - h, i, j + h);
-    if (i < n) out[count++] = counterClockwise(i + h, j, i, j - h, i, j + h);
-  }
-  return count;
-}
-
-int splitTriangleCount(int i, int j, int n) {
-  if ((i == 0 || i == n) && (j == 0 || j == n)) return 0;
-  const int shift = std::countr_zero(unsigned(i | j));
-  const bool iOdd = ((i >> shift) & 1) != 0, jOdd = ((j >> shift) & 1) != 0;
-  if (iOdd && jOdd) return 2;
-  if (iOdd) return int(j > 0) + int(j < n);
-  return int(i > 0) + int(i < n);
-}
 
 // Rounds a non-negative value up to float, so that stored errors and radii never fall below
 // the exact values.
@@ -284,24 +214,7 @@ Coverage coverage(const Tri& t, int cx, int cy) {
   return Coverage::Straddles;
 }
 
-bool insideRect(const Tri& t, int cx, int cy) {
-  return std::max({t.ax, t.bx, t.cx}) <= cx && std::max({t.ay, t.by, t.cy}) <= cy;
-}
-
 }  // namespace
-
-// ---- scratch ----------------------------------------------------------------------------
-
-void RtinScratch::reserve(int k) {
-  assert(k >= 1 && k <= kRtinMaxK && "RtinScratch::reserve: k must be in 1..kRtinMaxK");
-  prepare(blockMeshVertexBound(k));
-}
-
-void RtinScratch::prepare(std::size_t vertexCount) {
-  if (m_remap.size() < vertexCount) m_remap.resize(vertexCount, kNoVertex);
-  if (m_state.size() < vertexCount) m_state.resize(vertexCount, 0);
-  if (m_queue.capacity() < vertexCount) m_queue.reserve(vertexCount);
-}
 
 // ---- build ------------------------------------------------------------------------------
 
@@ -637,217 +550,6 @@ float BlockLod::triangleError(GridVertex apex, GridVertex b, GridVertex c) const
 std::size_t BlockLod::memoryBytes() const {
   return sizeof(*this) + sizeof(float) * (m_height.capacity() + m_error.capacity() + m_radius.capacity() +
                                           m_triangleError.capacity() + m_leafError.capacity());
-}
-
-// ---- extraction -------------------------------------------------------------------------
-
-template <class Active, class Leaf>
-void BlockLod::walk(Active& active, Leaf& leaf) const {
-  const int n = m_footprint.cells();
-  walkTriangle(0, 0, n, 0, 0, n, active, leaf);  // south-west half
-  walkTriangle(n, n, 0, n, n, 0, active, leaf);  // north-east half
-}
-
-template <class Active, class Leaf>
-void BlockLod::walkTriangle(int ax, int ay, int bx, int by, int cx, int cy, Active& active, Leaf& leaf) const {
-  // Nothing of a clipped block's outside reaches the mesh.
-  if (m_clipped && (std::min({ax, bx, cx}) >= m_cellsX || std::min({ay, by, cy}) >= m_cellsY)) return;
-  const int mx2 = bx + cx, my2 = by + cy;  // doubled hypotenuse midpoint
-  const int sideIndex = (2 * ax > mx2 || (2 * ax == mx2 && 2 * ay > my2)) ? 1 : 0;  // as triangleSide
-  if (isHalfCell(bx, cx)) {
-    const int ci = std::min(bx, cx), cj = std::min(by, cy);
-    // At stride 1 a half cell cut south-west to north-east, whose cell's other half is drawn too
-    // (its apex, the opposite corner, is active: with a conforming mesh, that half's parent is
-    // split), is drawn as the matching half of the surface's cut instead, error 0: apex p10 ->
-    // {p00, p10, p01}, apex p01 -> {p11, p01, p10}, both counter-clockwise. Otherwise its
-    // hypotenuse is a leg of the coarser triangle beside it and it keeps the bintree's cut.
-    if (m_footprint.stride == 1 && (bx - cx) == (by - cy) && active(bx + cx - ax, by + cy - ay)) {
-      if (ax > ci) {
-        leaf(ci, cj, ci + 1, cj, ci, cj + 1, 0.0f);
-      } else {
-        leaf(ci + 1, cj + 1, ci, cj + 1, ci + 1, cj, 0.0f);
-      }
-      return;
-    }
-    leaf(ax, ay, bx, by, cx, cy, leafError(ci, cj, sideIndex));
-    return;
-  }
-  const int mx = mx2 / 2, my = my2 / 2;
-  if (active(mx, my)) {
-    walkTriangle(mx, my, ax, ay, bx, by, active, leaf);
-    walkTriangle(mx, my, cx, cy, ax, ay, active, leaf);
-  } else {
-    const std::size_t v = std::size_t(my) * m_footprint.verticesPerSide() + mx;
-    leaf(ax, ay, bx, by, cx, cy, m_triangleError[2 * v + sideIndex]);
-  }
-}
-
-template <class Active>
-void BlockLod::emit(Active& active, BlockMesh& out, RtinScratch& scratch) const {
-  assert(!m_height.empty() && "BlockLod: extraction from a block that was never built");
-  const int n = m_footprint.cells(), side = n + 1;
-  out.clear();
-  out.footprint = m_footprint;
-  out.cellsX = m_cellsX;
-  out.cellsY = m_cellsY;
-  scratch.prepare(std::size_t(side) * std::size_t(side));
-  std::uint32_t* remap = scratch.m_remap.data();
-
-  auto vertex = [&](int i, int j) {
-    std::uint32_t& slot = remap[std::size_t(j) * side + i];
-    if (slot == kNoVertex) {
-      slot = std::uint32_t(out.vertices.size());
-      out.vertices.push_back(GridVertex{std::uint16_t(i), std::uint16_t(j)});
-    }
-    return slot;
-  };
-  float maxError = 0.0f;
-  auto leaf = [&](int ax, int ay, int bx, int by, int cx, int cy, float err) {
-    // Straddling triangles are always split, so a clipped block's leaves lie wholly inside
-    // or wholly outside.
-    if (m_clipped && !insideRect(Tri{ax, ay, bx, by, cx, cy}, m_cellsX, m_cellsY)) return;
-    out.indices.push_back(vertex(ax, ay));
-    out.indices.push_back(vertex(bx, by));
-    out.indices.push_back(vertex(cx, cy));
-    maxError = std::max(maxError, err);
-  };
-  walk(active, leaf);
-  out.maxError = maxError;
-
-  auto collect = [&](std::vector<std::uint32_t>& list, int i0, int j0, int di, int dj, int steps) {
-    for (int t = 0; t <= steps; ++t) {
-      const std::uint32_t slot = remap[std::size_t(j0 + t * dj) * side + (i0 + t * di)];
-      if (slot != kNoVertex) list.push_back(slot);
-    }
-  };
-  collect(out.edges[int(BlockEdge::South)], 0, 0, 1, 0, m_cellsX);
-  collect(out.edges[int(BlockEdge::East)], m_cellsX, 0, 0, 1, m_cellsY);
-  collect(out.edges[int(BlockEdge::North)], 0, m_cellsY, 1, 0, m_cellsX);
-  collect(out.edges[int(BlockEdge::West)], 0, 0, 0, 1, m_cellsY);
-
-  for (const GridVertex& v : out.vertices) remap[std::size_t(v.j) * side + v.i] = kNoVertex;
-}
-
-void BlockLod::extractThreshold(float maxError, BlockMesh& out, RtinScratch& scratch, const BoundaryPins* pins) const {
-  assert(!std::isnan(maxError) && "BlockLod::extractThreshold: maxError is NaN");
-  const int side = m_footprint.verticesPerSide();
-  const bool pinned = pins && pins->any();
-  if (pinned) markPinned(*pins, scratch);
-  const std::uint8_t* marked = scratch.m_state.data();
-  auto active = [&](int i, int j) {
-    const std::size_t v = std::size_t(j) * side + i;
-    const float e = m_error[v];
-    return e > maxError || e == kForced || (pinned && marked[v] != 0);
-  };
-  emit(active, out, scratch);
-}
-
-void BlockLod::markPinned(const BoundaryPins& pins, RtinScratch& scratch) const {
-  const int n = m_footprint.cells(), side = n + 1;
-  const std::size_t vertexCount = std::size_t(side) * std::size_t(side);
-  scratch.prepare(vertexCount);
-  std::uint8_t* marked = scratch.m_state.data();
-  std::fill(marked, marked + vertexCount, std::uint8_t(0));
-  std::vector<std::uint32_t>& stack = scratch.m_queue;
-  stack.clear();
-  auto mark = [&](int i, int j) {
-    const std::size_t v = std::size_t(j) * side + i;
-    if (marked[v] != 0) return;
-    marked[v] = 1;
-    stack.push_back(std::uint32_t(v));
-  };
-  for (int p = 0; p <= n; ++p) {
-    if (p <= m_cellsX && pins.pinned(BlockEdge::South, p)) mark(p, 0);
-    if (p <= m_cellsX && pins.pinned(BlockEdge::North, p)) mark(p, m_cellsY);
-    if (p <= m_cellsY && pins.pinned(BlockEdge::West, p)) mark(0, p);
-    if (p <= m_cellsY && pins.pinned(BlockEdge::East, p)) mark(m_cellsX, p);
-  }
-  // A vertex is in a mesh only with both triangles it splits, i.e. with their parents split:
-  // their parents' midpoints are these triangles' apexes.
-  while (!stack.empty()) {
-    const std::uint32_t v = stack.back();
-    stack.pop_back();
-    Tri tris[2];
-    const int count = splitTriangles(int(v % side), int(v / side), n, tris);
-    for (int t = 0; t < count; ++t) mark(tris[t].ax, tris[t].ay);
-  }
-}
-
-void BlockLod::extractView(const LodView& view, BlockMesh& out, RtinScratch& scratch, const BoundaryPins* pins) const {
-  assert(view.projectionConstant > 0.0 && "BlockLod::extractView: projectionConstant must be positive");
-  assert(view.tolerancePx >= 0.0 && view.nearM >= 0.0 && "BlockLod::extractView: negative tolerance or near");
-  const int side = m_footprint.verticesPerSide();
-  const double k = view.projectionConstant, tau = view.tolerancePx;
-  const bool pinned = pins && pins->any();
-  if (pinned) markPinned(*pins, scratch);
-  const std::uint8_t* marked = scratch.m_state.data();
-  auto active = [&](int i, int j) {
-    const std::size_t v = std::size_t(j) * side + i;
-    const float e = m_error[v];
-    if (e == kForced || (pinned && marked[v] != 0)) return true;
-    if (!(e > 0.0f)) return false;  // a free vertex never pays for itself
-    const double ex = i * m_vertexSpacingX - view.camera.x, ey = j * m_vertexSpacingY - view.camera.y;
-    const double ez = double(m_height[v]) - view.camera.z;
-    const double distance = std::sqrt(ex * ex + ey * ey + ez * ez);
-    // error > tau * max(d - r, near) / K, without the division
-    return double(e) * k > tau * std::max(distance - double(m_radius[v]), view.nearM);
-  };
-  emit(active, out, scratch);
-}
-
-void BlockLod::extractCount(std::size_t targetTriangles, BlockMesh& out, RtinScratch& scratch) const {
-  assert(!m_height.empty() && "BlockLod::extractCount: block was never built");
-  const int n = m_footprint.cells(), side = n + 1;
-  const std::size_t vertexCount = std::size_t(side) * std::size_t(side);
-  scratch.prepare(vertexCount);
-  std::uint8_t* state = scratch.m_state.data();  // low bits: parents split so far
-  std::fill(state, state + vertexCount, std::uint8_t(0));
-  std::vector<std::uint32_t>& queue = scratch.m_queue;
-  queue.clear();
-  auto larger = [&](std::uint32_t a, std::uint32_t b) { return m_error[a] < m_error[b]; };
-  auto inside = [&](int ax, int ay, int bx, int by, int cx, int cy) {
-    return std::size_t(insideRect(Tri{ax, ay, bx, by, cx, cy}, m_cellsX, m_cellsY));
-  };
-
-  // Candidates are the vertices whose triangles all exist in the current mesh. Errors are
-  // monotone, so the largest candidate is the largest unsplit vertex overall: ROAM's forced
-  // splits of a hypotenuse neighbour have all been made by the time a vertex is taken.
-  std::size_t count = inside(0, 0, n, 0, 0, n) + inside(n, n, 0, n, n, 0);
-  queue.push_back(std::uint32_t((n / 2) * side + n / 2));  // its triangles are the roots
-  while (!queue.empty()) {
-    const std::uint32_t v = queue.front();
-    const float e = m_error[v];
-    if (!(e > 0.0f)) break;  // nothing left lowers the error
-    const int i = int(v % side), j = int(v / side);
-    Tri tris[2];
-    const int trisCount = splitTriangles(i, j, n, tris);
-    std::size_t added = 0, removed = 0;
-    for (int t = 0; t < trisCount; ++t) {
-      const Tri& r = tris[t];
-      added += inside(i, j, r.ax, r.ay, r.bx, r.by) + inside(i, j, r.cx, r.cy, r.ax, r.ay);
-      removed += inside(r.ax, r.ay, r.bx, r.by, r.cx, r.cy);
-    }
-    if (e != kForced && count + added - removed > targetTriangles) break;
-    std::pop_heap(queue.begin(), queue.end(), larger);
-    queue.pop_back();
-    state[v] |= kSplitFlag;
-    count = count + added - removed;
-    for (int t = 0; t < trisCount; ++t) {
-      const Tri& r = tris[t];
-      const int legs[2][4] = {{r.ax, r.ay, r.bx, r.by}, {r.cx, r.cy, r.ax, r.ay}};
-      for (const auto& leg : legs) {
-        if (((leg[0] + leg[2]) & 1) != 0 || ((leg[1] + leg[3]) & 1) != 0) continue;
-        const int ci = (leg[0] + leg[2]) / 2, cj = (leg[1] + leg[3]) / 2;
-        const std::size_t c = std::size_t(cj) * side + ci;
-        if (++state[c] == splitTriangleCount(ci, cj, n)) {
-          queue.push_back(std::uint32_t(c));
-          std::push_heap(queue.begin(), queue.end(), larger);
-        }
-      }
-    }
-  }
-  auto active = [&](int ai, int aj) { return (state[std::size_t(aj) * side + ai] & kSplitFlag) != 0; };
-  emit(active, out, scratch);
 }
 
 }  // namespace polder::terrain
