@@ -16,7 +16,7 @@
 #include <polder/platform/glfw_window.hpp>
 #endif
 
-#include "bench_statistics.hpp"
+#include "bench_report.hpp"
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "scene_file.hpp"
