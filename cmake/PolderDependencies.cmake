@@ -41,6 +41,12 @@ polder_dependency(terrain_engine Threads)
 
 polder_component(scene)
 
+# A scene from its description: reads DEMs (OpenImageIO) and mesh files (Assimp).
+polder_component(scene_build IF POLDER_WITH_OPENIMAGEIO POLDER_WITH_ASSIMP)
+
+# Recorded flights over the frame pipeline, and their statistics.
+polder_component(flight)
+
 # The terrain frame on the GL renderer.
 polder_component(terrain_draw IF POLDER_WITH_GL)
 

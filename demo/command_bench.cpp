@@ -1,7 +1,6 @@
 // polder bench DEM: a recorded flight, headless; prints a table and writes the JSON report
 // (keys fixed by the issue that asked for it; later tools read them).
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -14,15 +13,15 @@
 
 #include <polder/camera_path.hpp>
 #include <polder/enclosed_background.hpp>
+#include <polder/flight_recorder.hpp>
 #include <polder/query/frame_cracks.hpp>
 #include <polder/query/query_scene.hpp>
 #include <polder/query/screen_error.hpp>
 #include <polder/terrain/full_resolution_mesh.hpp>
 #include <polder/terrain/heightfield_crop.hpp>
-#include <polder/terrain/watertight.hpp>
 #include <polder/terrain_engine.hpp>
 
-#include "bench_statistics.hpp"
+#include "bench_report.hpp"
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "terrain_drawing.hpp"
@@ -54,33 +53,24 @@ struct BenchArguments {
   bool framesGiven = false;
 };
 
-// What one pass over the path measured, frame by frame.
-struct PassResult {
-  std::vector<double> selectMs, lodMs, dikesMs, piecesMs, totalMs, renderMs, uploadBytes;
-  std::vector<double> triangles, dikeTriangles, visible, culled;
-  std::uint64_t lookups = 0, hits = 0, rebuilds = 0;
-  std::uint64_t piecesCreated = 0, piecesChanged = 0, piecesRetired = 0;
-  double pieceBytes = 0.0;  // vertex and index bytes the created and changed pieces carry
-  std::size_t enclosedBackground = 0, cracks = 0;  // --count-cracks, over the rendered frames
-  double errorMax = 0.0, errorP99 = 0.0;
-  int framesMeasured = 0;
-  int framesChecked = 0;
-  std::size_t openEdges = 0, tJunctions = 0;
-  double dikeBoundMaxPx = 0.0;            // the dike check's largest bound over the frames
-  int dikeFramesOverTau = 0;              // frames the check left a dike triangle over tau
-  std::size_t dikeTrianglesOverTauMax = 0;
-};
-
-// Reads the frame back and adds its enclosed background pixels and, among them, its cracks
-// (query/frame_cracks.hpp); the frame's mesh is ray cast only when something is enclosed.
-void countCracks(render::Renderer& renderer, TerrainEngine& engine, const Camera& camera, PassResult& result) {
+// Reads the drawn frame back and counts its enclosed background pixels and, among them, its
+// cracks (query/frame_cracks.hpp); the frame's mesh is ray cast only when something is enclosed.
+FramePixelCracks countCracks(render::Renderer& renderer, TerrainEngine& engine, const Camera& camera) {
   RgbaImage image;
-  if (!renderer.readPixels(image).ok() || countEnclosedBackground(image) == 0) return;
+  if (!renderer.readPixels(image).ok() || countEnclosedBackground(image) == 0) return {};
   auto frameMesh = query::QueryScene::createFromMeshes(engine.frameMeshes());
-  if (!frameMesh) return;
+  if (!frameMesh) return {};
   const query::FrameCracks found = query::findFrameCracks(image, **frameMesh, camera);
-  result.enclosedBackground += found.enclosedBackground;
-  result.cracks += found.cracks;
+  return {found.enclosedBackground, found.cracks};
+}
+
+// The frame's screen-space error measured against the full-resolution terrain `truth`.
+std::optional<FrameScreenError> frameScreenError(TerrainEngine& engine, const query::QueryScene& truth,
+                                                 const Camera& camera) {
+  auto lodScene = query::QueryScene::createFromMeshes(engine.frameMeshes());
+  if (!lodScene) return std::nullopt;
+  const query::ScreenError error = query::measureScreenError(**lodScene, truth, camera);
+  return FrameScreenError{error.maxPx, error.p99Px};
 }
 
 Result<CameraPath> makePath(const BenchArguments& arguments, const terrain::Heightfield& field,
@@ -107,85 +97,50 @@ Result<CameraPath> makePath(const BenchArguments& arguments, const terrain::Heig
   return path;
 }
 
-PassResult runPass(TerrainEngine& engine, const CameraPath& path, const Camera& lens, const BenchArguments& arguments,
-                   const query::QueryScene* truth, HeadlessRenderer* headless, const TerrainStyle& style, bool progressBar) {
-  PassResult result;
+// The recorded pass: every frame drawn with `headless` (when given) and timed, every
+// --measure-every frames measured against `truth` and checked for watertightness.
+Result<FlightRecord> flyMeasured(FlightRecorder& recorder, const BenchArguments& arguments, const query::QueryScene& truth,
+                                 HeadlessRenderer* headless, const TerrainStyle& style) {
+  ProgressBar progress("flying");
+  FlightHooks hooks;
+  hooks.progress = [&progress](float fraction) { progress.update(fraction); };
+  hooks.measureError = [&truth](TerrainEngine& engine, const Camera& camera) {
+    return frameScreenError(engine, truth, camera);
+  };
   std::optional<TerrainDrawer> drawer;
-  if (headless) drawer.emplace(*headless->renderer);
-  const double frameTimeS = 1.0 / 60.0;
-  std::vector<double> errorMaxima, errorP99s;
-  std::optional<ProgressBar> progress;
-  if (progressBar) progress.emplace(std::string(engine.options().cacheEnabled ? "flying" : "flying without cache"));
-  for (int frameIndex = 0; frameIndex < arguments.frames; ++frameIndex) {
-    const Camera camera = path.at(frameIndex * frameTimeS).placed(lens);
-    const TerrainFrame& frame = engine.update(camera);
-    const TerrainFrameStats& stats = frame.stats;
-    result.selectMs.push_back(stats.selectMs);
-    result.lodMs.push_back(stats.lodMs);
-    result.dikesMs.push_back(stats.dikesMs);
-    result.piecesMs.push_back(stats.piecesMs);
-    result.totalMs.push_back(stats.totalMs);
-    result.piecesCreated += stats.piecesCreated;
-    result.piecesChanged += stats.piecesChanged;
-    result.piecesRetired += stats.piecesRetired;
-    result.pieceBytes += double(stats.pieceBytesProduced);
-    result.triangles.push_back(double(stats.triangles()));
-    result.dikeTriangles.push_back(double(stats.dikeTriangles));
-    result.visible.push_back(double(stats.visibleBlocks));
-    result.culled.push_back(double(stats.culledBlocks));
-    result.lookups += stats.cacheLookups;
-    result.hits += stats.cacheHits;
-    result.rebuilds += stats.cacheRebuilds;
-    result.dikeBoundMaxPx = std::max(result.dikeBoundMaxPx, stats.dikeErrorPx);
-    result.dikeFramesOverTau += stats.dikeTrianglesOverTau > 0;
-    result.dikeTrianglesOverTauMax = std::max(result.dikeTrianglesOverTauMax, stats.dikeTrianglesOverTau);
-
-    const bool measure = truth && arguments.measureEvery > 0 && frameIndex % arguments.measureEvery == 0;
-    if (headless) {
-      // Render time counts the uploads of the frame's new and changed pieces, and waits for
-      // the rasteriser to finish.
-      const auto start = std::chrono::steady_clock::now();
+  if (headless) {
+    // Render time counts the uploads of the frame's new and changed pieces, and waits for
+    // the rasteriser to finish.
+    drawer.emplace(*headless->renderer);
+    hooks.draw = [&](const TerrainFrame& frame, const Camera& camera) {
       (void)drawer->sync(frame);
       headless->renderer->beginFrame(camera, style);
       drawer->draw(frame);
       (void)headless->renderer->endFrame();
       headless->renderer->finish();
-      result.renderMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-      result.uploadBytes.push_back(double(drawer->stats().uploadedBytes));
-      if (arguments.countCracks) countCracks(*headless->renderer, engine, camera, result);
-    }
-    if (measure) {
-      const std::span<const MeshData> meshes = engine.frameMeshes();
-      if (auto lodScene = query::QueryScene::createFromMeshes(meshes)) {
-        const query::ScreenError error = query::measureScreenError(**lodScene, *truth, camera);
-        errorMaxima.push_back(error.maxPx);
-        errorP99s.push_back(error.p99Px);
-        ++result.framesMeasured;
-      }
-      const terrain::WatertightReport report = engine.checkWatertight();
-      result.openEdges += report.openEdges;
-      result.tJunctions += report.tJunctions;
-      ++result.framesChecked;
-    }
-    if (progress) progress->update(float(frameIndex + 1) / float(arguments.frames));
+      return drawer->stats().uploadedBytes;
+    };
+    if (arguments.countCracks)
+      hooks.countCracks = [headless](TerrainEngine& engine, const Camera& camera) {
+        return countCracks(*headless->renderer, engine, camera);
+      };
   }
-  for (double e : errorMaxima) result.errorMax = std::max(result.errorMax, e);
-  for (double e : errorP99s) result.errorP99 = std::max(result.errorP99, e);
-  return result;
+  FlightOptions options;
+  options.frames = arguments.frames;
+  options.checkEvery = arguments.measureEvery;
+  return recorder.fly(options, hooks);
 }
 
-// Median over the frames of (pieces ms) / (the rest of update()'s ms).
-double hostDataRatio(const PassResult& pass) {
-  std::vector<double> ratios;
-  for (std::size_t i = 0; i < pass.piecesMs.size(); ++i)
-    ratios.push_back(pass.piecesMs[i] / std::max(pass.totalMs[i] - pass.piecesMs[i], 1e-9));
-  return percentiles(ratios).median;
-}
-
-double sum(const std::vector<double>& values) {
-  double total = 0.0;
-  for (double v : values) total += v;
-  return total;
+// The same path again without the LOD cache, nothing drawn or checked.
+Result<FlightRecord> flyWithoutCache(FlightRecorder& recorder, int frames) {
+  ProgressBar progress("flying without cache");
+  FlightHooks hooks;
+  hooks.progress = [&progress](float fraction) { progress.update(fraction); };
+  FlightOptions options;
+  options.frames = frames;
+  options.checkEvery = 0;
+  options.withoutCache = true;
+  return recorder.fly(options, hooks);
 }
 
 int runBench(BenchArguments arguments) {
@@ -276,14 +231,16 @@ int runBench(BenchArguments arguments) {
     headless = std::move(*created);
   }
 
-  const PassResult cached = runPass(**engine, *path, lens, arguments, truth->get(), headless ? &*headless : nullptr, style, true);
-  std::optional<PassResult> uncached;
+  FlightRecorder recorder(**engine, *path, lens);
+  auto flown = flyMeasured(recorder, arguments, **truth, headless ? &*headless : nullptr, style);
+  if (!flown) return reportError(flown.error());
+  const FlightRecord& cached = *flown;
+  const FlightSummary summary = summarizeFlight(cached);
+  std::optional<CacheComparison> comparison;
   if (arguments.compareCache) {
-    TerrainEngineOptions without = options;
-    without.cacheEnabled = false;
-    (*engine)->setOptions(without);
-    uncached = runPass(**engine, *path, lens, arguments, nullptr, nullptr, style, true);
-    (*engine)->setOptions(options);
+    auto uncached = flyWithoutCache(recorder, arguments.frames);
+    if (!uncached) return reportError(uncached.error());
+    comparison = compareCache(cached, *uncached);
   }
 
   const double fullResolution = double(terrain::fullResolutionTriangleCount(*field));
@@ -307,42 +264,41 @@ int runBench(BenchArguments arguments) {
         {"frames", arguments.frames},
         {"path", arguments.path}}},
       {"triangles",
-       {{"mean", mean(cached.triangles)},
-        {"max", cached.triangles.empty() ? 0.0 : *std::max_element(cached.triangles.begin(), cached.triangles.end())},
+       {{"mean", summary.trianglesMean},
+        {"max", summary.trianglesMax},
         {"full_res", fullResolution},
-        {"dikes_mean", mean(cached.dikeTriangles)}}},
-      {"blocks", {{"visible_mean", mean(cached.visible)}, {"culled_mean", mean(cached.culled)}}},
+        {"dikes_mean", summary.dikeTrianglesMean}}},
+      {"blocks", {{"visible_mean", summary.visibleBlocksMean}, {"culled_mean", summary.culledBlocksMean}}},
       {"lod_cache",
-       {{"reuse_rate", cached.lookups ? double(cached.hits) / double(cached.lookups) : 0.0},
-        {"rebuilds", cached.rebuilds},
-        {"lookups", cached.lookups}}},
+       {{"reuse_rate", summary.cacheReuseRate},
+        {"rebuilds", cached.cacheRebuilds},
+        {"lookups", cached.cacheLookups}}},
       {"cpu_ms",
-       {{"select", percentileJson(cached.selectMs)},
-        {"lod", percentileJson(cached.lodMs)},
-        {"dikes", percentileJson(cached.dikesMs)},
-        {"pieces", percentileJson(cached.piecesMs)},
-        {"total", percentileJson(cached.totalMs)}}},
+       {{"select", percentileJson(summary.selectMs)},
+        {"lod", percentileJson(summary.lodMs)},
+        {"dikes", percentileJson(summary.dikesMs)},
+        {"pieces", percentileJson(summary.piecesMs)},
+        {"total", percentileJson(summary.totalMs)}}},
       // Host-ready vertex data (what replaces rebuilding every visible block's world mesh per
       // frame): its cost against the rest of update(), frame by frame.
       {"pieces",
        {{"created", cached.piecesCreated},
         {"changed", cached.piecesChanged},
         {"retired", cached.piecesRetired},
-        {"bytes_per_frame_mean", cached.pieceBytes / std::max(1, arguments.frames)},
-        {"host_data_ratio", hostDataRatio(cached)}}},
-      {"render_ms", cached.renderMs.empty() ? nlohmann::json(nullptr) : percentileJson(cached.renderMs)},
+        {"bytes_per_frame_mean", summary.pieceBytesPerFrame},
+        {"host_data_ratio", summary.hostDataRatio}}},
+      {"render_ms", summary.drawn ? percentileJson(summary.renderMs) : nlohmann::json(nullptr)},
       {"upload_bytes_per_frame",
-       cached.uploadBytes.empty()
-           ? nlohmann::json(nullptr)
-           : nlohmann::json{{"mean", mean(cached.uploadBytes)},
-                            {"median", percentiles(cached.uploadBytes).median},
-                            {"p99", percentiles(cached.uploadBytes).p99},
-                            {"zero_frames", std::count(cached.uploadBytes.begin(), cached.uploadBytes.end(), 0.0)}}},
+       summary.drawn ? nlohmann::json{{"mean", summary.uploadBytesMean},
+                                      {"median", summary.uploadBytes.median},
+                                      {"p99", summary.uploadBytes.p99},
+                                      {"zero_frames", summary.framesUploadingNothing}}
+                     : nlohmann::json(nullptr)},
       {"cracks", arguments.countCracks && arguments.render == "gl"
-                     ? nlohmann::json{{"enclosed_background_px", cached.enclosedBackground}, {"crack_px", cached.cracks}}
+                     ? nlohmann::json{{"enclosed_background_px", cached.cracks.enclosedBackgroundPx}, {"crack_px", cached.cracks.crackPx}}
                      : nlohmann::json(nullptr)},
       {"screen_error_px",
-       {{"tau", arguments.tauPx}, {"max", cached.errorMax}, {"p99", cached.errorP99}, {"frames_measured", cached.framesMeasured}}},
+       {{"tau", arguments.tauPx}, {"max", cached.errorMaxPx}, {"p99", cached.errorP99Px}, {"frames_measured", cached.framesMeasured}}},
       {"watertight",
        {{"frames_checked", cached.framesChecked}, {"open_edges", cached.openEdges}, {"t_junctions", cached.tJunctions}}},
       {"dike_check",
@@ -351,15 +307,14 @@ int runBench(BenchArguments arguments) {
         {"triangles_over_tau_max", cached.dikeTrianglesOverTauMax}}},
       {"memory", {{"peak_rss_mb", peakRssMb()}}},
   };
-  if (uncached) {
+  if (comparison) {
     report["compare_cache"] = {
-        {"lod_ms_saved_frac", 1.0 - sum(cached.lodMs) / std::max(sum(uncached->lodMs), 1e-12)},
-        {"total_ms_saved_frac", 1.0 - sum(cached.totalMs) / std::max(sum(uncached->totalMs), 1e-12)},
-        {"triangles_ratio", mean(cached.triangles) / std::max(mean(uncached->triangles), 1e-12)},
+        {"lod_ms_saved_frac", comparison->lodMsSavedFraction},
+        {"total_ms_saved_frac", comparison->totalMsSavedFraction},
+        {"triangles_ratio", comparison->trianglesRatio},
     };
   }
 
-  const Percentiles total = percentiles(cached.totalMs);
   std::printf("\n%-34s %s\n", "DEM", arguments.dem.path.c_str());
   std::printf("%-34s %d x %d samples, %.1f m spacing%s\n", "", field->width, field->height, field->spacingX,
               arguments.preset.empty() ? "" : "  (preset seed002: central 660 x 660)");
@@ -367,39 +322,36 @@ int runBench(BenchArguments arguments) {
               lens.widthPx, lens.heightPx, lens.fovYDeg,
               arguments.mode == "budget" ? ("budget " + std::to_string(arguments.budget) + " triangles").c_str()
                                          : ("tau " + std::to_string(arguments.tauPx) + " px").c_str());
-  std::printf("%-34s %.0f mean, %.0f max (%.2f%% of %.0f full resolution)\n", "triangles per frame", mean(cached.triangles),
-              report["triangles"]["max"].get<double>(), 100.0 * mean(cached.triangles) / fullResolution, fullResolution);
-  std::printf("%-34s %.1f%% of the triangles\n", "dikes", 100.0 * mean(cached.dikeTriangles) / std::max(mean(cached.triangles), 1.0));
-  std::printf("%-34s %.1f visible, %.1f culled\n", "blocks per frame", mean(cached.visible), mean(cached.culled));
-  std::printf("%-34s %.3f median, %.3f p99 (select %.3f, lod %.3f, dikes %.3f)\n", "cpu ms per frame", total.median,
-              total.p99, percentiles(cached.selectMs).median, percentiles(cached.lodMs).median,
-              percentiles(cached.dikesMs).median);
+  std::printf("%-34s %.0f mean, %.0f max (%.2f%% of %.0f full resolution)\n", "triangles per frame", summary.trianglesMean,
+              summary.trianglesMax, 100.0 * summary.trianglesMean / fullResolution, fullResolution);
+  std::printf("%-34s %.1f%% of the triangles\n", "dikes", 100.0 * summary.dikeTrianglesMean / std::max(summary.trianglesMean, 1.0));
+  std::printf("%-34s %.1f visible, %.1f culled\n", "blocks per frame", summary.visibleBlocksMean, summary.culledBlocksMean);
+  std::printf("%-34s %.3f median, %.3f p99 (select %.3f, lod %.3f, dikes %.3f)\n", "cpu ms per frame", summary.totalMs.median,
+              summary.totalMs.p99, summary.selectMs.median, summary.lodMs.median, summary.dikesMs.median);
   std::printf("%-34s %.3f ms median, x%.2f of the rest of the frame; %.0f KB per frame\n", "host data (pieces)",
-              percentiles(cached.piecesMs).median, hostDataRatio(cached), cached.pieceBytes / 1024.0 / std::max(1, arguments.frames));
-  if (!cached.renderMs.empty()) {
-    std::printf("%-34s %.1f median, %.1f p99\n", "render ms per frame (OSMesa)", percentiles(cached.renderMs).median,
-                percentiles(cached.renderMs).p99);
+              summary.piecesMs.median, summary.hostDataRatio, summary.pieceBytesPerFrame / 1024.0);
+  if (summary.drawn) {
+    std::printf("%-34s %.1f median, %.1f p99\n", "render ms per frame (OSMesa)", summary.renderMs.median,
+                summary.renderMs.p99);
     std::printf("%-34s %.0f KB mean, %.0f KB median; %lld of %d frames upload nothing\n", "uploaded per frame",
-                mean(cached.uploadBytes) / 1024.0, percentiles(cached.uploadBytes).median / 1024.0,
-                static_cast<long long>(std::count(cached.uploadBytes.begin(), cached.uploadBytes.end(), 0.0)), arguments.frames);
+                summary.uploadBytesMean / 1024.0, summary.uploadBytes.median / 1024.0,
+                static_cast<long long>(summary.framesUploadingNothing), arguments.frames);
   }
   if (arguments.countCracks && arguments.render == "gl")
     std::printf("%-34s %zu cracks (%zu enclosed background pixels, silhouette notches included)\n", "pixel cracks",
-                cached.cracks, cached.enclosedBackground);
-  std::printf("%-34s %.1f%% reused, %llu rebuilds\n", "LOD cache", 100.0 * report["lod_cache"]["reuse_rate"].get<double>(),
-              static_cast<unsigned long long>(cached.rebuilds));
+                cached.cracks.crackPx, cached.cracks.enclosedBackgroundPx);
+  std::printf("%-34s %.1f%% reused, %llu rebuilds\n", "LOD cache", 100.0 * summary.cacheReuseRate,
+              static_cast<unsigned long long>(cached.cacheRebuilds));
   std::printf("%-34s max %.3f px, p99 %.3f px over %d frames (tau %.2f)\n", "measured screen-space error",
-              cached.errorMax, cached.errorP99, cached.framesMeasured, arguments.tauPx);
+              cached.errorMaxPx, cached.errorP99Px, cached.framesMeasured, arguments.tauPx);
   std::printf("%-34s %zu open edges, %zu T-junctions over %d frames\n", "watertight", cached.openEdges,
               cached.tJunctions, cached.framesChecked);
   if (arguments.mode != "budget")
     std::printf("%-34s bound max %.3f px; %d of %d frames left dike triangles over tau (at most %zu)\n", "dike check",
                 cached.dikeBoundMaxPx, cached.dikeFramesOverTau, arguments.frames, cached.dikeTrianglesOverTauMax);
-  if (uncached)
+  if (comparison)
     std::printf("%-34s lod %.1f%% faster, total %.1f%% faster, triangles x%.3f\n", "cache vs no cache",
-                100.0 * report["compare_cache"]["lod_ms_saved_frac"].get<double>(),
-                100.0 * report["compare_cache"]["total_ms_saved_frac"].get<double>(),
-                report["compare_cache"]["triangles_ratio"].get<double>());
+                100.0 * comparison->lodMsSavedFraction, 100.0 * comparison->totalMsSavedFraction, comparison->trianglesRatio);
   std::printf("%-34s %.0f MB\n", "peak memory", peakRssMb());
 
   if (!arguments.json.empty()) {
@@ -408,7 +360,7 @@ int runBench(BenchArguments arguments) {
     if (!out) return reportError(makeError(ErrorKind::Io, arguments.json + ": cannot write the report"));
     std::printf("%-34s %s\n", "report", arguments.json.c_str());
   }
-  const bool withinTau = cached.errorMax <= arguments.tauPx || arguments.mode == "budget";
+  const bool withinTau = cached.errorMaxPx <= arguments.tauPx || arguments.mode == "budget";
   return withinTau && cached.openEdges == 0 && cached.tJunctions == 0 ? 0 : kExitData;
 }
 

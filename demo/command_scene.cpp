@@ -16,7 +16,7 @@
 #include <polder/platform/glfw_window.hpp>
 #endif
 
-#include "bench_statistics.hpp"
+#include "bench_report.hpp"
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "scene_file.hpp"
@@ -57,7 +57,7 @@ struct SceneRun {
   std::size_t allocatedRegionsMax = 0;
 };
 
-Result<SceneRun> runScene(LoadedScene& loaded, int frames, const std::string& outDir, int every) {
+Result<SceneRun> runScene(scene::BuiltScene& loaded, int frames, const std::string& outDir, int every) {
   std::optional<HeadlessRenderer> headless;
   if (!outDir.empty()) {
     std::error_code ec;
@@ -75,7 +75,7 @@ Result<SceneRun> runScene(LoadedScene& loaded, int frames, const std::string& ou
   ProgressBar progress(headless ? "rendering" : "running");
   RgbaImage image;
   for (int index = 0; index < frames; ++index) {
-    const Camera camera = sceneCamera(loaded, index);
+    const Camera camera = loaded.cameraAtFrame(index);
     const scene::SceneStats& stats = loaded.scene->update(camera, index / 60.0);
     run.triangles.push_back(double(stats.triangles()));
     run.objectTriangles.push_back(double(stats.objectTriangles));
@@ -115,7 +115,7 @@ Result<SceneRun> runScene(LoadedScene& loaded, int frames, const std::string& ou
   return run;
 }
 
-void printRun(const LoadedScene& loaded, const SceneRun& run, int frames) {
+void printRun(const scene::BuiltScene& loaded, const SceneRun& run, int frames) {
   const scene::SceneOptions& options = loaded.scene->options();
   const Percentiles allocator = percentiles(run.allocatorMs), total = percentiles(run.totalMs);
   std::printf("%-30s %d frames, %s\n", "scene", frames,
@@ -144,7 +144,7 @@ void printRun(const LoadedScene& loaded, const SceneRun& run, int frames) {
 #if POLDER_HAVE_GLFW
 // The scene in a window, in real time: the camera follows the scene's path (or stays put),
 // Escape quits; with --frames the window closes after that many frames.
-int runSceneWindow(LoadedScene& loaded, std::optional<int> frames) {
+int runSceneWindow(scene::BuiltScene& loaded, std::optional<int> frames) {
   platform::GlfwWindowOptions options;
   options.title = "Polder scene";
   options.width = loaded.lens.widthPx;
@@ -159,7 +159,7 @@ int runSceneWindow(LoadedScene& loaded, std::optional<int> frames) {
     (*window)->pollEvents();
     if ((*window)->input().held(platform::Key::Escape)) break;
     const double timeS = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    Camera camera = sceneCamera(loaded, int(timeS * 60.0));
+    Camera camera = loaded.cameraAtFrame(int(timeS * 60.0));
     const glm::ivec2 size = (*window)->framebufferSize();
     if (size.x <= 0 || size.y <= 0) continue;  // minimised
     camera.widthPx = size.x;

@@ -2,21 +2,12 @@
 
 #include <cmath>
 #include <fstream>
-#include <map>
-#include <sstream>
+#include <limits>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
-#include <polder/mesh/cluster_builder.hpp>
-#include <polder/mesh/collapse_builder.hpp>
-#include <polder/mesh/progressive_mesh_build.hpp>
-#include <polder/mesh_io/mesh_file.hpp>
-#include <polder/terrain_drawer.hpp>
-#include <polder/scene/heightfield_mesh.hpp>
-#include <polder/terrain/heightfield_crop.hpp>
-
 #include "cli_support.hpp"
-#include "terrain_drawing.hpp"
 
 namespace polder::cli {
 namespace {
@@ -141,88 +132,176 @@ Result<scene::Animation> animationOf(const SceneReader& reader, const json& valu
   return animation;
 }
 
-Result<terrain::Heightfield> demOf(const SceneReader& reader, const json& value, const std::string& where) {
+// "spacing", "z_scale" and "crop" beside a "dem": the DEM options and the central samples kept.
+Result<scene::DemDescription> demOf(const SceneReader& reader, const json& value, const std::string& where) {
   if (!value.contains("dem") || !value["dem"].is_string()) return reader.error(where, "needs a \"dem\" file");
-  DemArguments arguments;
-  arguments.path = reader.resolve(value["dem"]).string();
-  if (value.contains("spacing")) arguments.spacingM = value["spacing"].get<double>();
-  arguments.zScale = value.value("z_scale", 1.0);
-  auto dem = loadDem(arguments);
-  if (!dem) return dem.error();
-  terrain::Heightfield field = std::move(dem->field);
+  scene::DemDescription dem;
+  dem.file = reader.resolve(value["dem"]);
+  if (value.contains("spacing")) {
+    const double spacing = value["spacing"].get<double>();
+    if (!(spacing > 0.0) || !std::isfinite(spacing)) return reader.error(where + ".spacing", "must be a positive number of metres");
+    dem.options.spacingM = spacing;
+  }
+  dem.options.zScale = value.value("z_scale", 1.0);
+  if (!(dem.options.zScale != 0.0) || !std::isfinite(dem.options.zScale))
+    return reader.error(where + ".z_scale", "must be a finite, non-zero number");
   if (value.contains("crop")) {
     const json& crop = value["crop"];
     if (!crop.is_array() || crop.size() != 2 || !crop[0].is_number_integer() || !crop[1].is_number_integer())
       return reader.error(where + ".crop", "expected [width, height] in samples");
-    auto cropped = terrain::cropCentre(field, crop[0].get<int>(), crop[1].get<int>());
-    if (!cropped) return reader.error(where + ".crop", cropped.error().message);
-    field = std::move(*cropped);
+    dem.cropSamples = glm::ivec2(crop[0].get<int>(), crop[1].get<int>());
   }
-  return field;
+  return dem;
 }
 
-Result<std::shared_ptr<const scene::MeshModel>> modelOf(const SceneReader& reader, const std::string& name,
-                                                        const json& value, std::size_t& triangles) {
+Result<scene::ModelDescription> modelOf(const SceneReader& reader, const std::string& name, const json& value) {
   const std::string where = "models." + name;
   if (!value.is_object()) return reader.error(where, "expected an object");
-  mesh::TriangleMesh shape;
+  scene::ModelDescription model;
+  model.name = name;
   if (value.contains("file")) {
     if (!value["file"].is_string()) return reader.error(where + ".file", "expected a path");
-    mesh_io::MeshReadOptions options;
-    if (value.contains("texture")) options.bakeTexture = reader.resolve(value["texture"].get<std::string>());
-    auto read = mesh_io::readMesh(reader.resolve(value["file"]), options);
-    if (!read) return read.error();
-    shape = std::move(*read);
+    scene::MeshFileDescription file;
+    file.file = reader.resolve(value["file"]);
+    if (value.contains("texture")) file.bakeTexture = reader.resolve(value["texture"].get<std::string>());
+    model.shape = std::move(file);
   } else if (value.contains("dem")) {
-    auto field = demOf(reader, value, where);
-    if (!field) return field.error();
-    shape = scene::heightfieldMesh(*field);
+    auto dem = demOf(reader, value, where);
+    if (!dem) return dem.error();
+    model.shape = std::move(*dem);
   } else {
     return reader.error(where, "a model needs a \"file\" (OBJ/PLY) or a \"dem\"");
   }
-  if (shape.triangleCount() == 0) return reader.error(where, "the mesh has no triangles");
-  triangles = shape.triangleCount();
-  mesh::RegionPartition partition = mesh::singleRegion();
   if (value.contains("regions")) {
     const json& regions = value["regions"];
     if (regions.is_number_integer() && regions.get<int>() >= 1 && regions.get<int>() <= 100000) {
-      partition = mesh::automaticPartition(shape.positions, regions.get<std::uint32_t>());
+      model.regions.kind = scene::RegionsDescription::Kind::Automatic;
+      model.regions.count = regions.get<std::uint32_t>();
     } else if (regions.is_array() && regions.size() == 2 && regions[0].is_number_integer() &&
                regions[1].is_number_integer() && regions[0].get<int>() >= 1 && regions[1].get<int>() >= 1) {
-      partition = mesh::gridPartition(shape.positions, {regions[0].get<std::uint32_t>(), regions[1].get<std::uint32_t>(), 1});
+      model.regions.kind = scene::RegionsDescription::Kind::Grid;
+      model.regions.gridX = regions[0].get<std::uint32_t>();
+      model.regions.gridY = regions[1].get<std::uint32_t>();
     } else {
       return reader.error(where + ".regions", "expected a count (1..100000) or a grid [nx, ny]");
     }
   }
   const std::string builder = value.value("builder", std::string("collapse"));
-  Result<mesh::ProgressiveMesh> progressive =
-      reader.error(where + ".builder", "unknown builder '" + builder + "' (collapse, cluster)");
-  {
-    ProgressBar progress("building " + name);
-    const auto report = [&progress](double f) { progress.update(float(f)); };
-    if (builder == "collapse") {
-      mesh::CollapseOptions options;
-      options.progress = report;
-      progressive = mesh::buildProgressiveMesh(shape, partition, options);
-    } else if (builder == "cluster") {
-      mesh::ClusterOptions options;
-      options.progress = report;
-      progressive = mesh::buildProgressiveMesh(shape, partition, options);
-    }
-  }
-  if (!progressive) return progressive.error();
-  return std::make_shared<const scene::MeshModel>(name, std::move(*progressive));
+  if (builder == "collapse") model.builder = scene::ProgressiveMeshBuilder::Collapse;
+  else if (builder == "cluster") model.builder = scene::ProgressiveMeshBuilder::Cluster;
+  else return reader.error(where + ".builder", "unknown builder '" + builder + "' (collapse, cluster)");
+  return model;
 }
 
-double groundAt(const terrain::Heightfield& field, double x, double y) {
-  const int i = std::clamp(int(std::lround(x / field.spacingX)), 0, field.width - 1);
-  const int j = std::clamp(int(std::lround(y / field.spacingY)), 0, field.height - 1);
-  return field.at(i, j);
+Result<scene::NodeDescription> nodeOf(const SceneReader& reader, const json& value, const std::string& where) {
+  if (!value.is_object()) return reader.error(where, "expected an object");
+  scene::NodeDescription node;
+  node.name = value.value("name", where);
+  if (value.contains("model")) node.model = value["model"].get<std::string>();
+  if (value.contains("parent")) node.parent = value["parent"].get<std::string>();
+  auto pose = poseOf(reader, value, where);
+  if (!pose) return pose.error();
+  node.pose = *pose;
+  if (value.contains("animation")) {
+    auto animation = animationOf(reader, value["animation"], where + ".animation");
+    if (!animation) return animation.error();
+    node.animation = *animation;
+  }
+  if (value.contains("tint")) {
+    auto tint = vec3Of(reader, value["tint"], where + ".tint");
+    if (!tint) return tint.error();
+    node.tint = glm::vec3(*tint);
+  }
+  node.tintRegions = value.value("tint_regions", false);
+  // "repeat": copies of an orbiting node, each a little further out and phase-shifted.
+  const json repeat = value.value("repeat", json::object());
+  node.repeat.count = repeat.value("count", 1);
+  if (node.repeat.count < 1 || node.repeat.count > 100000) return reader.error(where + ".repeat.count", "must be 1..100000");
+  node.repeat.phaseStepDeg = repeat.value("phase_step_deg", 0.0);
+  node.repeat.radiusStep = repeat.value("radius_step", 0.0);
+  node.repeat.periodStepS = repeat.value("period_step_s", 0.0);
+  node.repeat.heightStep = repeat.value("height_step", 0.0);
+  return node;
+}
+
+Result<scene::SceneOptions> lodOf(const SceneReader& reader, const json& root) {
+  const json lod = root.value("lod", json::object());
+  scene::SceneOptions options;
+  const std::string mode = lod.value("mode", std::string("budget"));
+  if (mode != "budget" && mode != "error") return reader.error("lod.mode", "budget or error");
+  options.mode = mode == "budget" ? LodMode::TriangleBudget : LodMode::PixelError;
+  options.budgetTriangles = lod.value("budget", std::uint64_t(200000));
+  options.tauPx = lod.value("tau", 1.0);
+  options.alpha = lod.value("alpha", 3.0);
+  if (options.budgetTriangles == 0) return reader.error("lod.budget", "must be at least 1");
+  return options;
+}
+
+// "camera": the lens (size, fov, pose) and the path.
+Status cameraOf(const SceneReader& reader, const json& root, scene::SceneDescription& description) {
+  const json camera = root.value("camera", json::object());
+  auto size = parseImageSize(camera.value("size", std::string("1280x720")));
+  if (!size) return reader.error("camera.size", size.error().message);
+  Camera& lens = description.lens;
+  lens.widthPx = size->first;
+  lens.heightPx = size->second;
+  lens.fovYDeg = camera.value("fov", 60.0);
+  if (!(lens.fovYDeg > 1.0 && lens.fovYDeg < 179.0)) return reader.error("camera.fov", "must lie in 1..179");
+  if (camera.contains("pose")) {
+    const json& pose = camera["pose"];
+    if (!pose.is_array() || pose.size() != 5) return reader.error("camera.pose", "expected [x, y, z, yaw, pitch]");
+    lens.position = {pose[0].get<double>(), pose[1].get<double>(), pose[2].get<double>()};
+    lens.yawDeg = pose[3].get<double>();
+    lens.pitchDeg = pose[4].get<double>();
+  }
+  using Kind = scene::CameraPathDescription::Kind;
+  scene::CameraPathDescription& path = description.cameraPath;
+  const std::string name = camera.value("path", std::string("static"));
+  path.kind = name == "static" ? Kind::Static : name == "flyover" ? Kind::Flyover : name == "orbit" ? Kind::Orbit : Kind::File;
+  if (path.kind == Kind::File) path.file = reader.resolve(name);
+  if (path.kind == Kind::Flyover || path.kind == Kind::Orbit) {
+    path.altitudeM = camera.value("altitude", 300.0);
+    path.speedMps = camera.value("speed", 150.0);
+  }
+  return {};
+}
+
+Result<scene::SceneDescription> describe(const SceneReader& reader, const json& root) {
+  scene::SceneDescription description;
+  if (root.contains("terrain")) {
+    auto dem = demOf(reader, root["terrain"], "terrain");
+    if (!dem) return dem.error();
+    const int block = root["terrain"].value("block", 33);
+    description.terrain = scene::TerrainDescription{std::move(*dem), block == 17 ? 4 : block == 65 ? 6 : block == 129 ? 7 : 5};
+  }
+  if (root.contains("models")) {
+    if (!root["models"].is_object()) return reader.error("models", "expected an object of named models");
+    for (const auto& [name, value] : root["models"].items()) {
+      auto model = modelOf(reader, name, value);
+      if (!model) return model.error();
+      description.models.push_back(std::move(*model));
+    }
+  }
+  if (root.contains("nodes")) {
+    if (!root["nodes"].is_array()) return reader.error("nodes", "expected a list");
+    for (std::size_t i = 0; i < root["nodes"].size(); ++i) {
+      auto node = nodeOf(reader, root["nodes"][i], "nodes[" + std::to_string(i) + "]");
+      if (!node) return node.error();
+      description.nodes.push_back(std::move(*node));
+    }
+  }
+  auto lod = lodOf(reader, root);
+  if (!lod) return lod.error();
+  description.lod = *lod;
+  description.frames = root.value("frames", 300);
+  if (description.frames < 1) return reader.error("frames", "must be at least 1");
+  if (Status camera = cameraOf(reader, root, description); !camera) return camera.error();
+  return description;
 }
 
 }  // namespace
 
-Result<LoadedScene> loadSceneFile(const std::filesystem::path& file) {
+Result<scene::SceneDescription> readSceneFile(const std::filesystem::path& file) {
   SceneReader reader{file, file.parent_path()};
   std::ifstream in(file);
   if (!in) return makeError(ErrorKind::Io, file.string() + ": cannot open the scene file");
@@ -233,168 +312,28 @@ Result<LoadedScene> loadSceneFile(const std::filesystem::path& file) {
     return makeError(ErrorKind::InvalidData, file.string() + ": not valid JSON (" + e.what() + ")");
   }
   if (!root.is_object()) return reader.error("top level", "expected an object");
-
   try {
-    LoadedScene loaded;
-    std::unique_ptr<TerrainEngine> engine;
-    if (root.contains("terrain")) {
-      auto field = demOf(reader, root["terrain"], "terrain");
-      if (!field) return field.error();
-      auto shared = std::make_shared<terrain::Heightfield>(std::move(*field));
-      loaded.terrain = shared;
-      TerrainEngineOptions options;
-      const int block = root["terrain"].value("block", 33);
-      options.blockK = block == 17 ? 4 : block == 65 ? 6 : block == 129 ? 7 : 5;
-      ProgressBar progress("preparing blocks");
-      auto created = TerrainEngine::create(shared, options, [&](float f) { progress.update(f); });
-      if (!created) return created.error();
-      engine = std::move(*created);
-    }
-    loaded.scene = std::make_unique<scene::Scene>(std::move(engine));
-
-    std::map<std::string, int> modelIndex;
-    std::map<std::string, std::size_t> modelTriangles;
-    if (root.contains("models")) {
-      if (!root["models"].is_object()) return reader.error("models", "expected an object of named models");
-      for (const auto& [name, value] : root["models"].items()) {
-        std::size_t triangles = 0;
-        auto model = modelOf(reader, name, value, triangles);
-        if (!model) return model.error();
-        modelIndex[name] = loaded.scene->addModel(*model);
-        modelTriangles[name] = triangles;
-      }
-    }
-
-    std::map<std::string, int> nodeIndex;
-    if (root.contains("nodes")) {
-      if (!root["nodes"].is_array()) return reader.error("nodes", "expected a list");
-      for (std::size_t i = 0; i < root["nodes"].size(); ++i) {
-        const json& value = root["nodes"][i];
-        const std::string where = "nodes[" + std::to_string(i) + "]";
-        if (!value.is_object()) return reader.error(where, "expected an object");
-        scene::SceneNode node;
-        node.name = value.value("name", where);
-        if (value.contains("model")) {
-          const std::string model = value["model"];
-          if (!modelIndex.contains(model)) return reader.error(where + ".model", "no model named '" + model + "'");
-          node.model = modelIndex[model];
-        }
-        if (value.contains("parent")) {
-          const std::string parent = value["parent"];
-          if (!nodeIndex.contains(parent)) return reader.error(where + ".parent", "no earlier node named '" + parent + "'");
-          node.parent = nodeIndex[parent];
-        }
-        auto pose = poseOf(reader, value, where);
-        if (!pose) return pose.error();
-        node.pose = *pose;
-        if (value.contains("animation")) {
-          auto animation = animationOf(reader, value["animation"], where + ".animation");
-          if (!animation) return animation.error();
-          node.animation = *animation;
-        }
-        if (value.contains("tint")) {
-          auto tint = vec3Of(reader, value["tint"], where + ".tint");
-          if (!tint) return tint.error();
-          node.tint = glm::vec3(*tint);
-        }
-        node.tintRegions = value.value("tint_regions", false);
-        // "repeat": copies of an orbiting node, each a little further out and phase-shifted.
-        const json repeat = value.value("repeat", json::object());
-        const int copies = repeat.value("count", 1);
-        if (copies < 1 || copies > 100000) return reader.error(where + ".repeat.count", "must be 1..100000");
-        for (int c = 0; c < copies; ++c) {
-          scene::SceneNode copy = node;
-          if (copies > 1) copy.name = node.name + "#" + std::to_string(c);
-          copy.animation.phase += glm::radians(repeat.value("phase_step_deg", 0.0)) * c;
-          copy.animation.radius += repeat.value("radius_step", 0.0) * c;
-          copy.animation.periodS += repeat.value("period_step_s", 0.0) * c;
-          copy.pose.translation.z += repeat.value("height_step", 0.0) * c;
-          auto added = loaded.scene->addNode(copy);
-          if (!added) return reader.error(where, added.error().message);
-          nodeIndex[copy.name] = *added;
-          if (copy.model >= 0) {
-            for (const auto& [name, index] : modelIndex)
-              if (index == copy.model) loaded.meshTriangles += modelTriangles[name];
-          }
-        }
-      }
-    }
-
-    const json lod = root.value("lod", json::object());
-    scene::SceneOptions options;
-    const std::string mode = lod.value("mode", std::string("budget"));
-    if (mode != "budget" && mode != "error") return reader.error("lod.mode", "budget or error");
-    options.mode = mode == "budget" ? LodMode::TriangleBudget : LodMode::PixelError;
-    options.budgetTriangles = lod.value("budget", std::uint64_t(200000));
-    options.tauPx = lod.value("tau", 1.0);
-    options.alpha = lod.value("alpha", 3.0);
-    if (options.budgetTriangles == 0) return reader.error("lod.budget", "must be at least 1");
-    if (Status s = loaded.scene->setOptions(options); !s) return reader.error("lod", s.error().message);
-
-    const json camera = root.value("camera", json::object());
-    loaded.frames = root.value("frames", 300);
-    if (loaded.frames < 1) return reader.error("frames", "must be at least 1");
-    auto size = parseImageSize(camera.value("size", std::string("1280x720")));
-    if (!size) return reader.error("camera.size", size.error().message);
-    loaded.lens.widthPx = size->first;
-    loaded.lens.heightPx = size->second;
-    loaded.lens.fovYDeg = camera.value("fov", 60.0);
-    if (!(loaded.lens.fovYDeg > 1.0 && loaded.lens.fovYDeg < 179.0)) return reader.error("camera.fov", "must lie in 1..179");
-    if (camera.contains("pose")) {
-      const json& pose = camera["pose"];
-      if (!pose.is_array() || pose.size() != 5) return reader.error("camera.pose", "expected [x, y, z, yaw, pitch]");
-      loaded.lens.position = {pose[0].get<double>(), pose[1].get<double>(), pose[2].get<double>()};
-      loaded.lens.yawDeg = pose[3].get<double>();
-      loaded.lens.pitchDeg = pose[4].get<double>();
-    }
-    const std::string path = camera.value("path", std::string("static"));
-    if (path != "static") {
-      if (!loaded.terrain && (path == "flyover" || path == "orbit"))
-        return reader.error("camera.path", "flyover and orbit need a terrain");
-      if (path == "flyover" || path == "orbit") {
-        const terrain::Heightfield& field = *loaded.terrain;
-        auto ground = [&field](double x, double y) { return groundAt(field, x, y); };
-        if (path == "flyover") {
-          FlyoverOptions fly;
-          fly.altitudeM = camera.value("altitude", 300.0);
-          fly.speedMps = camera.value("speed", 150.0);
-          loaded.path = makeFlyoverLoop(field.extentX(), field.extentY(), ground, fly);
-        } else {
-          OrbitOptions orbit;
-          orbit.altitudeM = camera.value("altitude", 300.0);
-          orbit.speedMps = camera.value("speed", 150.0);
-          loaded.path = makeOrbitLoop(field.extentX(), field.extentY(), ground, orbit);
-        }
-      } else {
-        std::ifstream pathFile(reader.resolve(path));
-        if (!pathFile) return reader.error("camera.path", "cannot open '" + path + "' (static, flyover, orbit or a file)");
-        std::stringstream text;
-        text << pathFile.rdbuf();
-        auto parsed = CameraPath::parse(text.str());
-        if (!parsed) return reader.error("camera.path", parsed.error().message);
-        loaded.path = std::move(*parsed);
-      }
-    }
-    // Clip planes and shading from whatever the scene holds.
-    double extent = loaded.terrain ? std::hypot(loaded.terrain->extentX(), loaded.terrain->extentY()) : 1000.0;
-    extent = std::max(extent, 4.0 * glm::length(loaded.lens.position));
-    loaded.lens.nearM = std::max(0.05, extent * 1e-5);
-    loaded.lens.farM = extent * 4.0;
-    if (loaded.terrain) {
-      loaded.style = defaultTerrainStyle(*loaded.terrain);
-    } else {  // objects alone: the ramp's top colour, their tints show as they are
-      loaded.style.minHeightM = 0.0f;
-      loaded.style.maxHeightM = 1.0f;
-    }
-    loaded.style.fogDensity = fogDensityForDistance(float(0.6 * extent));
-    return loaded;
+    return describe(reader, root);
   } catch (const json::exception& e) {
     return makeError(ErrorKind::InvalidData, file.string() + ": a value has the wrong type (" + e.what() + ")");
   }
 }
 
-Camera sceneCamera(const LoadedScene& loaded, int index) {
-  return loaded.path ? loaded.path->at(index / 60.0).placed(loaded.lens) : loaded.lens;
+Result<scene::BuiltScene> loadSceneFile(const std::filesystem::path& file) {
+  auto description = readSceneFile(file);
+  if (!description) return description.error();
+  std::optional<ProgressBar> progress;
+  std::string stage;
+  auto built = scene::buildScene(*description, [&](std::string_view now, float fraction) {
+    if (!progress || now != stage) {
+      progress.reset();  // the last stage's bar ends before the next begins
+      stage = now;
+      progress.emplace(stage);
+    }
+    progress->update(fraction);
+  });
+  if (!built) return makeError(built.error().kind, file.string() + ": " + built.error().message);
+  return built;
 }
 
 }  // namespace polder::cli
