@@ -6,6 +6,7 @@ include(PolderComponents)
 
 polder_component(core)
 polder_dependency(core glm CONFIG)
+polder_dependency(core TBB CONFIG)
 
 polder_component(terrain)
 
@@ -16,7 +17,6 @@ polder_dependency(terrain_io TIFF)
 polder_component(cache)
 
 polder_component(mesh)
-polder_dependency(mesh Threads)
 
 # Mesh import and export (OBJ, PLY ascii/binary; glTF skins and MD2 animation later).
 polder_component(mesh_io IF POLDER_WITH_ASSIMP POLDER_WITH_OPENIMAGEIO)
@@ -28,7 +28,6 @@ polder_component(render IF POLDER_WITH_GL)
 
 polder_component(query IF POLDER_WITH_EMBREE)
 polder_dependency(query embree 3 CONFIG)
-polder_dependency(query Threads)
 
 polder_component(platform_osmesa IF POLDER_WITH_GL)
 polder_dependency(platform_osmesa OSMesa)
@@ -37,7 +36,6 @@ polder_component(platform_glfw IF POLDER_WITH_GL POLDER_BUILD_GLFW)
 polder_dependency(platform_glfw glfw3 3.3 CONFIG)
 
 polder_component(terrain_engine)
-polder_dependency(terrain_engine Threads)
 
 polder_component(scene)
 

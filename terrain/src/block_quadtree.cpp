@@ -9,8 +9,8 @@
 #include <limits>
 #include <mutex>
 #include <new>
+#include <optional>
 #include <string>
-#include <system_error>
 #include <thread>
 
 #include <polder/terrain/rtin.hpp>
@@ -179,8 +179,12 @@ Result<BlockQuadtree> BlockQuadtree::build(const Heightfield& field, const Block
   std::size_t errorJob = jobs.size();  // the first failing job, so the reported error is deterministic
   Error firstError;
   bool errorIsOutOfMemory = false;
-  auto work = [&](bool reportsProgress) {
-    BlockLod lod;  // one per thread, rebuilt in place: no allocation after the first node
+  // Each worker takes jobs in order from the shared counter until none is left; the calling
+  // thread, one of them, reports progress.
+  const std::thread::id caller = std::this_thread::get_id();
+  auto work = [&] {
+    const bool reportsProgress = std::this_thread::get_id() == caller;
+    BlockLod lod;  // one per worker, rebuilt in place: no allocation after the first node
     for (;;) {
       const std::size_t job = nextJob.fetch_add(1, std::memory_order_relaxed);
       if (job >= jobs.size()) break;
@@ -219,18 +223,12 @@ Result<BlockQuadtree> BlockQuadtree::build(const Heightfield& field, const Block
     }
   };
 
-  int threadCount = options.threadCount > 0 ? options.threadCount : int(std::thread::hardware_concurrency());
-  threadCount = std::clamp(threadCount, 1, int(std::max<std::size_t>(1, jobs.size())));
-  std::vector<std::thread> helpers;
-  try {
-    helpers.reserve(std::size_t(threadCount - 1));
-    for (int t = 1; t < threadCount; ++t) helpers.emplace_back(work, false);
-  } catch (const std::system_error&) {
-    // Fewer threads than asked: the ones that started and the calling thread share the work.
-  } catch (const std::bad_alloc&) {
-  }
-  work(true);
-  for (std::thread& helper : helpers) helper.join();
+  std::optional<core::ThreadPool> ownPool;
+  core::ThreadPool& pool = options.pool ? *options.pool : ownPool.emplace();
+  const std::size_t workers = std::min<std::size_t>(std::size_t(pool.threadCount()), std::max<std::size_t>(jobs.size(), 1));
+  pool.forRanges(workers, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t w = begin; w < end; ++w) work();
+  });
   if (errorJob < jobs.size()) {
     if (errorIsOutOfMemory) {
       return makeError(ErrorKind::OutOfMemory,

@@ -209,7 +209,8 @@ TEST(BlockQuadtree, BuildIsTheSameForAnyThreadCount) {
   const BlockLayout layout = *BlockLayout::create(field.width, field.height, 3);
   std::vector<float> progress;
   BlockQuadtreeOptions options;
-  options.threadCount = 1;
+  core::ThreadPool onePool(1);
+  options.pool = &onePool;
   options.progress = [&](float f) { progress.push_back(f); };
   const BlockQuadtree one = buildTree(field, layout, options);
   ASSERT_GE(progress.size(), 2u);
@@ -218,7 +219,8 @@ TEST(BlockQuadtree, BuildIsTheSameForAnyThreadCount) {
   for (std::size_t i = 1; i < progress.size(); ++i) EXPECT_LE(progress[i - 1], progress[i]);
 
   for (int threads : {2, 3, 8}) {
-    options.threadCount = threads;
+    core::ThreadPool pool(threads);
+    options.pool = &pool;
     progress.clear();
     const BlockQuadtree many = buildTree(field, layout, options);
     EXPECT_EQ(progress.back(), 1.0f);

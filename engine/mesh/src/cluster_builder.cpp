@@ -14,7 +14,8 @@
 #include "cluster_mesh.hpp"
 #include "cluster_worker.hpp"
 #include "locality_order.hpp"
-#include "paired_work.hpp"
+#include "halves.hpp"
+#include "polder/thread_pool.hpp"
 #include "step_listener.hpp"
 
 namespace polder::mesh {
@@ -46,12 +47,12 @@ constexpr std::uint8_t kBetweenParts = 2;  // a vertex in neither part this roun
 class ClusterBuilder {
  public:
   ClusterBuilder(const TriangleMesh& mesh, const RegionPartition& partition, const ClusterOptions& options,
-                 StepListener* listener)
-      : m_input(mesh), m_partition(partition), m_options(options), m_listener(listener) {}
+                 StepListener* listener, core::ThreadPool& pool)
+      : m_input(mesh), m_partition(partition), m_options(options), m_listener(listener), m_pool(pool) {}
 
   SimplificationSteps run() {
     if (m_listener) m_listener->builderOnTwoCores(true);
-    m_mesh = cluster::setUpClusterMesh(m_input, m_partition, m_options, m_pair);
+    m_mesh = cluster::setUpClusterMesh(m_input, m_partition, m_options, m_pool);
     SimplificationSteps steps;
     if (m_mesh.liveTriangles == 0) return steps;
     const std::uint32_t vertexCount = m_mesh.vertexCount;
@@ -66,7 +67,7 @@ class ClusterBuilder {
     m_part.assign(vertexCount, 0);
     const bool rounds = m_aliveVertices >= 2 * kRoundsDownTo;
     std::array<std::optional<ClusterWorker>, 2> worker;
-    m_pair.run([&](int w) {
+    m_pool.runHalves([&](int w) {
       if (w == 0 || rounds) worker[w].emplace(m_mesh, m_partition, m_options);
     });
     if (rounds) runRounds(*worker[0], *worker[1], steps);
@@ -123,7 +124,7 @@ class ClusterBuilder {
         removed[w] = worker.takeSteps(quota, triangleQuota, m_roundSteps[w], &m_roundKeys[w], nullptr);
         worker.endRound(m_aliveVertexList, m_part, static_cast<std::uint8_t>(w));
       };
-      m_pair.run(work);
+      m_pool.runHalves(work);
       mergeRoundSteps(steps);
       for (const ClusterWorker* worker : workers) m_mesh.liveTriangles -= worker->trianglesRemoved();
       for (std::uint32_t v : m_aliveVertexList)  // no step reaches them, so they are still alive
@@ -185,7 +186,7 @@ class ClusterBuilder {
   const RegionPartition& m_partition;
   const ClusterOptions& m_options;
   StepListener* m_listener;  // may be null
-  PairedWork m_pair;  // the helper thread, for the set-up and the rounds
+  core::ThreadPool& m_pool;  // for the set-up and the rounds
   ClusterMesh m_mesh;
   std::uint32_t m_startVertices = 0;  // on a triangle at the start
   std::uint32_t m_aliveVertices = 0;
@@ -199,11 +200,13 @@ class ClusterBuilder {
 
 Result<SimplificationSteps> buildClusterSteps(const TriangleMesh& mesh, const RegionPartition& partition,
                                               const ClusterOptions& options) {
-  return buildClusterSteps(mesh, partition, options, nullptr);
+  core::ThreadPool pool(options.threads);
+  return buildClusterSteps(mesh, partition, options, nullptr, pool);
 }
 
 Result<SimplificationSteps> buildClusterSteps(const TriangleMesh& mesh, const RegionPartition& partition,
-                                              const ClusterOptions& options, StepListener* listener) {
+                                              const ClusterOptions& options, StepListener* listener,
+                                              core::ThreadPool& pool) {
   if (Status s = validateMesh(mesh, "cluster builder input"); !s) return s.error();
   if (Status s = validatePartition(partition, mesh.vertexCount(), "cluster builder regions"); !s) return s.error();
   if (!(options.initialCellFraction >= 0.0) || !std::isfinite(options.initialCellFraction))
@@ -216,7 +219,7 @@ Result<SimplificationSteps> buildClusterSteps(const TriangleMesh& mesh, const Re
     return makeError(ErrorKind::InvalidArgument, "cluster builder: featureAngleDegrees must lie in [0, 180]");
   return buildInLocalityOrder(mesh, partition, listener,
                               [&](const TriangleMesh& ordered, const RegionPartition& regions) {
-                                return ClusterBuilder(ordered, regions, options, listener).run();
+                                return ClusterBuilder(ordered, regions, options, listener, pool).run();
                               });
 }
 

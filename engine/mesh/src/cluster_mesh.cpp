@@ -49,8 +49,8 @@ class UnionFind {
 class ClusterMeshSetup {
  public:
   ClusterMeshSetup(const TriangleMesh& input, const RegionPartition& partition, const ClusterOptions& options,
-                   PairedWork& pair, ClusterMesh& mesh)
-      : m_input(input), m_partition(partition), m_options(options), m_pair(pair), m_mesh(mesh) {}
+                   core::ThreadPool& pool, ClusterMesh& mesh)
+      : m_input(input), m_partition(partition), m_options(options), m_pool(pool), m_mesh(mesh) {}
 
   void run() {
     m_mesh.vertexCount = static_cast<std::uint32_t>(m_input.vertexCount());
@@ -68,9 +68,9 @@ class ClusterMeshSetup {
     const auto triangleCount = static_cast<std::uint32_t>(m_mesh.corner.size() / 3);
     m_mesh.liveTriangles = triangleCount;
     m_mesh.triangleAlive.assign(triangleCount, 1);
-    const std::vector<WeightedPlane> plane = fillFansAndPlanes(m_pair, m_mesh.position, m_mesh.corner, m_mesh.fan);
+    const std::vector<WeightedPlane> plane = fillFansAndPlanes(m_pool, m_mesh.position, m_mesh.corner, m_mesh.fan);
     m_mesh.quadric.resize(m_mesh.vertexCount);
-    m_pair.run([&](int half) {
+    m_pool.runHalves([&](int half) {
       const auto [begin, end] = halfOf(m_mesh.vertexCount, half);
       for (std::uint32_t v = begin; v < end; ++v) {
         Quadric sum;
@@ -170,7 +170,7 @@ class ClusterMeshSetup {
   double classify(const std::vector<WeightedPlane>& plane) {
     m_mesh.featureCosine = std::cos(m_options.featureAngleDegrees * 3.14159265358979323846 / 180.0);
     std::array<EdgeScan, 2> scan;
-    m_pair.run([&](int half) {
+    m_pool.runHalves([&](int half) {
       const auto [begin, end] = halfOf(m_mesh.vertexCount, half);
       scanEdges(begin, end, plane, scan[half]);
     });
@@ -253,7 +253,7 @@ class ClusterMeshSetup {
       }
     };
     m_mesh.vertexClass.assign(m_mesh.vertexCount, VertexClass::Complex);
-    m_pair.run([&](int half) {
+    m_pool.runHalves([&](int half) {
       const auto [begin, end] = halfOf(m_mesh.vertexCount, half);
       for (std::uint32_t v = begin; v < end; ++v) classifyVertex(v);
     });
@@ -334,16 +334,16 @@ class ClusterMeshSetup {
   const TriangleMesh& m_input;
   const RegionPartition& m_partition;
   const ClusterOptions& m_options;
-  PairedWork& m_pair;
+  core::ThreadPool& m_pool;
   ClusterMesh& m_mesh;
 };
 
 }  // namespace
 
 ClusterMesh setUpClusterMesh(const TriangleMesh& input, const RegionPartition& partition,
-                             const ClusterOptions& options, PairedWork& pair) {
+                             const ClusterOptions& options, core::ThreadPool& pool) {
   ClusterMesh mesh;
-  ClusterMeshSetup(input, partition, options, pair, mesh).run();
+  ClusterMeshSetup(input, partition, options, pool, mesh).run();
   return mesh;
 }
 

@@ -12,7 +12,8 @@
 #include "polder/mesh/cluster_builder.hpp"
 #include "polder/mesh/region_partition.hpp"
 #include "polder/mesh/triangle_mesh.hpp"
-#include "paired_work.hpp"
+#include "halves.hpp"
+#include "polder/thread_pool.hpp"
 #include "quadric.hpp"
 #include "triangle_fans.hpp"
 
@@ -85,8 +86,8 @@ struct ClusterMesh {
 
 // Part A's preprocessing of `input` (its vertices in locality order): every vertex
 // classified and given the quadric of its planes; cells start at tau0. Halves of the work
-// run on `pair`'s two threads; the result does not depend on it.
+// run as two halves on `pool`; the result does not depend on it.
 ClusterMesh setUpClusterMesh(const TriangleMesh& input, const RegionPartition& partition,
-                             const ClusterOptions& options, PairedWork& pair);
+                             const ClusterOptions& options, core::ThreadPool& pool);
 
 }  // namespace polder::mesh::cluster

@@ -10,7 +10,8 @@
 #include "builder_setup.hpp"
 #include "indexed_min_heap.hpp"
 #include "locality_order.hpp"
-#include "paired_work.hpp"
+#include "halves.hpp"
+#include "polder/thread_pool.hpp"
 #include "quadric.hpp"
 #include "step_listener.hpp"
 #include "triangle_fans.hpp"
@@ -75,8 +76,8 @@ struct Neighbour {
 class CollapseBuilder {
  public:
   CollapseBuilder(const TriangleMesh& mesh, const RegionPartition& partition, const CollapseOptions& options,
-                  StepListener* listener)
-      : m_mesh(mesh), m_partition(partition), m_options(options), m_listener(listener) {}
+                 StepListener* listener, core::ThreadPool& pool)
+      : m_mesh(mesh), m_partition(partition), m_options(options), m_listener(listener), m_pool(pool) {}
 
   SimplificationSteps run() {
     if (m_listener) m_listener->builderOnTwoCores(true);
@@ -135,11 +136,11 @@ class CollapseBuilder {
     // Live triangles (degenerate input ones are skipped), fans and planes.
     m_corner = liveTriangleCorners(m_mesh);
     m_liveTriangles = static_cast<std::uint32_t>(m_corner.size() / 3);
-    const std::vector<WeightedPlane> plane = fillFansAndPlanes(m_pair, position, m_corner, m_fan);
+    const std::vector<WeightedPlane> plane = fillFansAndPlanes(m_pool, position, m_corner, m_fan);
     setUpAttributes();
     m_vertex.resize(m_vertexCount);
     double squaredEdgeSum = 0.0;  // over every triangle's three edges (corner k to the next)
-    m_pair.run([&](int half) {
+    m_pool.runHalves([&](int half) {
       const auto [begin, end] = halfOf(m_vertexCount, half);
       for (std::uint32_t v = begin; v < end; ++v) {
         // Each plane as a quadric of its own, then added: the roundings of adding each
@@ -217,7 +218,7 @@ class CollapseBuilder {
   // Every vertex's kind and colour border, by halves on two threads (classifying only reads
   // the mesh), then the boundary planes of the border vertices, in vertex order.
   void classifyAll() {
-    m_pair.run([&](int half) {
+    m_pool.runHalves([&](int half) {
       const auto [begin, end] = halfOf(m_vertexCount, half);
       FanScratch scratch;
       for (std::uint32_t v = begin; v < end; ++v) classify(v, scratch);
@@ -233,7 +234,7 @@ class CollapseBuilder {
   // are costed by halves on two threads (reading only), the others' one by one.
   void queueFirstCandidates() {
     std::vector<Option> cheapest(m_vertexCount, Option{0.0f, kNone});
-    m_pair.run([&](int half) {
+    m_pool.runHalves([&](int half) {
       const auto [begin, end] = halfOf(m_vertexCount, half);
       std::vector<Option> options;
       for (std::uint32_t v = begin; v < end; ++v) {
@@ -631,7 +632,7 @@ class CollapseBuilder {
   const RegionPartition& m_partition;
   const CollapseOptions& m_options;
   StepListener* m_listener;  // may be null
-  PairedWork m_pair;         // the helper thread, for the set-up
+  core::ThreadPool& m_pool;  // for the set-up
   std::uint32_t m_vertexCount = 0;
   double m_diagonal = 1.0;
   double m_tieBreakScale = 0.0;  // kShorterEdgeFirst x mean squared edge length
@@ -656,11 +657,13 @@ class CollapseBuilder {
 
 Result<SimplificationSteps> buildCollapseSteps(const TriangleMesh& mesh, const RegionPartition& partition,
                                                const CollapseOptions& options) {
-  return buildCollapseSteps(mesh, partition, options, nullptr);
+  core::ThreadPool pool(options.threads);
+  return buildCollapseSteps(mesh, partition, options, nullptr, pool);
 }
 
 Result<SimplificationSteps> buildCollapseSteps(const TriangleMesh& mesh, const RegionPartition& partition,
-                                               const CollapseOptions& options, StepListener* listener) {
+                                               const CollapseOptions& options, StepListener* listener,
+                                               core::ThreadPool& pool) {
   if (Status s = validateMesh(mesh, "collapse builder input"); !s) return s.error();
   if (Status s = validatePartition(partition, mesh.vertexCount(), "collapse builder regions"); !s) return s.error();
   if (!(options.minNormalCosine >= -1.0 && options.minNormalCosine < 1.0))
@@ -669,7 +672,7 @@ Result<SimplificationSteps> buildCollapseSteps(const TriangleMesh& mesh, const R
       !(options.boundaryWeight >= 0.0))
     return makeError(ErrorKind::InvalidArgument, "collapse builder: weights must be finite and >= 0");
   return buildInLocalityOrder(mesh, partition, listener, [&](const TriangleMesh& ordered, const RegionPartition& regions) {
-    return CollapseBuilder(ordered, regions, options, listener).run();
+    return CollapseBuilder(ordered, regions, options, listener, pool).run();
   });
 }
 

@@ -61,7 +61,8 @@ Result<ProgressiveMesh> ProgressiveMesh::assemble(const TriangleMesh& mesh, cons
     if (Status added = assembler.addStep(steps.representative[s], steps.removedBy(s), steps.ontoBy(s), steps.error[s]);
         !added)
       return added.error();
-  return assembler.finish();
+  core::ThreadPool pool;
+  return assembler.finish(pool);
 }
 
 }  // namespace polder::mesh

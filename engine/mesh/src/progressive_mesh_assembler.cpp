@@ -7,7 +7,8 @@
 #include <string>
 
 #include "builder_setup.hpp"
-#include "paired_work.hpp"
+#include "halves.hpp"
+#include "polder/thread_pool.hpp"
 
 namespace polder::mesh {
 
@@ -157,18 +158,17 @@ bool ProgressiveMeshAssembler::hasDegenerated(std::uint32_t t) const {
 }
 
 // The vertex table and the triangles' slots do not depend on each other, nor do the index
-// buffers and the changes once both are known: each pair runs on two threads (on the bunny
+// buffers and the changes once both are known: each pair runs as two halves on `pool` (on the bunny
 // this is a seventh of a pipelined build, left for after the builder ends).
-ProgressiveMesh ProgressiveMeshAssembler::finish() {
+ProgressiveMesh ProgressiveMeshAssembler::finish(core::ThreadPool& pool) {
   ProgressiveMesh out;
   out.m_stepCount = m_stepRegion.size();
   out.m_regions.resize(m_partition.regionCount);
   Layout layout;
-  std::optional<PairedWork> pair;
-  if (m_owner.size() >= kPairedFinishTriangles) pair.emplace();
-  auto inPairs = [&](const std::function<void(int)>& half) {
-    if (pair) {
-      pair->run(half);
+  const bool paired = m_owner.size() >= kPairedFinishTriangles;
+  auto inPairs = [&](const auto& half) {
+    if (paired) {
+      pool.runHalves(half);
     } else {
       half(0);
       half(1);

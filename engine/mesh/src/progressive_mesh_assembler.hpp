@@ -11,6 +11,7 @@
 #include "polder/mesh/region_partition.hpp"
 #include "polder/mesh/triangle_mesh.hpp"
 #include "polder/result.hpp"
+#include "polder/thread_pool.hpp"
 
 namespace polder::mesh {
 
@@ -27,7 +28,7 @@ class ProgressiveMeshAssembler {
   Status addStep(std::uint32_t rep, std::span<const std::uint32_t> removed, std::span<const std::uint32_t> onto,
                  float error);
   // The sequence of the steps added; last.
-  ProgressiveMesh finish();
+  ProgressiveMesh finish(core::ThreadPool& pool);
 
  private:
   struct RecordedChange {

@@ -11,6 +11,7 @@
 #include "polder/mesh/simplification_steps.hpp"
 #include "polder/mesh/triangle_mesh.hpp"
 #include "polder/result.hpp"
+#include "polder/thread_pool.hpp"
 
 namespace polder::mesh {
 
@@ -26,10 +27,13 @@ class StepListener {
   virtual void builderOnTwoCores(bool /*busy*/) {}
 };
 
-// buildCollapseSteps and buildClusterSteps, telling `listener` (when not null) of every step.
+// buildCollapseSteps and buildClusterSteps on `pool`, telling `listener` (when not null) of
+// every step.
 Result<SimplificationSteps> buildCollapseSteps(const TriangleMesh& mesh, const RegionPartition& partition,
-                                               const CollapseOptions& options, StepListener* listener);
+                                               const CollapseOptions& options, StepListener* listener,
+                                               core::ThreadPool& pool);
 Result<SimplificationSteps> buildClusterSteps(const TriangleMesh& mesh, const RegionPartition& partition,
-                                              const ClusterOptions& options, StepListener* listener);
+                                              const ClusterOptions& options, StepListener* listener,
+                                              core::ThreadPool& pool);
 
 }  // namespace polder::mesh

@@ -8,7 +8,8 @@
 
 #include <glm/glm.hpp>
 
-#include "paired_work.hpp"
+#include "halves.hpp"
+#include "polder/thread_pool.hpp"
 #include "quadric.hpp"
 #include "triangle_fans.hpp"
 
@@ -37,14 +38,14 @@ inline WeightedPlane trianglePlane(const std::vector<glm::dvec3>& position, cons
 }
 
 // Every vertex's fan (its triangles in triangle order) and every triangle's plane, by
-// halves on the pair's two threads: fans by vertex, planes by triangle.
-inline std::vector<WeightedPlane> fillFansAndPlanes(PairedWork& pair, const std::vector<glm::dvec3>& position,
+// halves on `pool`: fans by vertex, planes by triangle.
+inline std::vector<WeightedPlane> fillFansAndPlanes(core::ThreadPool& pool, const std::vector<glm::dvec3>& position,
                                                     const std::vector<std::uint32_t>& corner, TriangleFans& fan) {
   const auto vertexCount = static_cast<std::uint32_t>(position.size());
   const auto triangleCount = static_cast<std::uint32_t>(corner.size() / 3);
   fan.clearAll(vertexCount);
   std::vector<WeightedPlane> plane(triangleCount);
-  pair.run([&](int half) {
+  pool.runHalves([&](int half) {
     const auto [vertexBegin, vertexEnd] = halfOf(vertexCount, half);
     fan.fill(corner, vertexBegin, vertexEnd);
     const auto [begin, end] = halfOf(triangleCount, half);

@@ -1,20 +1,22 @@
 #include <polder/query/reference_renderer.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <optional>
 #include <vector>
 
 #include <polder/terrain/normals.hpp>
+#include <polder/thread_pool.hpp>
 
 #include "grid_triangulation.hpp"
-#include "worker_threads.hpp"
 
 namespace polder::query {
 
 namespace {
+
+// Rows share the ray buffers of a task; a few per task keep the tasks many and cheap.
+constexpr std::size_t kRowsPerTask = 4;
 
 std::uint8_t toByte(float value) { return std::uint8_t(std::lround(std::clamp(value, 0.0f, 1.0f) * 255.0f)); }
 
@@ -39,11 +41,11 @@ glm::vec3 interpolatedNormal(const terrain::Heightfield& field, const glm::dvec3
 }
 
 void renderRows(const QueryScene& scene, const terrain::Heightfield& field, const Camera& camera,
-                const TerrainStyle& style, std::atomic<int>& nextRow, RgbaImage& image) {
+                const TerrainStyle& style, int rowBegin, int rowEnd, RgbaImage& image) {
   const glm::dvec3 forward = camera.forward();
   std::vector<QueryRay> rays(std::size_t(camera.widthPx));
   std::vector<std::optional<RayHit>> hits(rays.size());
-  for (int y = nextRow.fetch_add(1); y < camera.heightPx; y = nextRow.fetch_add(1)) {
+  for (int y = rowBegin; y < rowEnd; ++y) {
     for (int x = 0; x < camera.widthPx; ++x) {
       const glm::dvec3 direction = camera.pixelRay(x + 0.5, y + 0.5);
       // GL clips at eye depth, distance along forward: a ray's metres to the near and far
@@ -74,9 +76,9 @@ RgbaImage renderReference(const QueryScene& scene, const terrain::Heightfield& f
   RgbaImage image(std::max(camera.widthPx, 0), std::max(camera.heightPx, 0));
   if (image.width == 0 || image.height == 0 || field.width < 2 || field.height < 2) return image;
 
-  std::atomic<int> nextRow{0};
-  detail::runOnThreads(threads, std::size_t(image.height),
-                       [&] { renderRows(scene, field, camera, style, nextRow, image); });
+  core::ThreadPool(threads).forRanges(std::size_t(image.height), kRowsPerTask, [&](std::size_t begin, std::size_t end) {
+    renderRows(scene, field, camera, style, int(begin), int(end), image);
+  });
   return image;
 }
 

@@ -2,12 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
 #include <vector>
+
+#include <polder/thread_pool.hpp>
 
 namespace polder::query {
 
 namespace {
+
+// Rows share the ray buffers of a task; a few per task keep the tasks many and cheap.
+constexpr std::size_t kRowsPerTask = 4;
 
 // Pixel coordinates (x right, y down) of a world point, or nothing behind the eye.
 std::optional<glm::dvec2> project(const glm::dmat4& viewProjection, const Camera& camera, const glm::dvec3& point) {
@@ -24,15 +28,14 @@ ScreenError measureScreenError(const QueryScene& lodMesh, const QueryScene& trut
   const int columns = (camera.widthPx + stride - 1) / stride;
   const int rows = (camera.heightPx + stride - 1) / stride;
   const glm::dmat4 viewProjection = camera.projection() * camera.viewRotation();
-  const int threadCount = std::clamp(options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()), 1, rows);
-
-  // Errors per row band, gathered afterwards: each thread writes only its own rows.
-  std::vector<std::vector<double>> errors(static_cast<std::size_t>(threadCount));
-  auto measureRows = [&](int thread) {
+  // Errors per row, gathered afterwards in row order, so that no figure depends on which
+  // thread measured which rows.
+  std::vector<std::vector<double>> errors(static_cast<std::size_t>(std::max(rows, 0)));
+  auto measureRows = [&](std::size_t rowBegin, std::size_t rowEnd) {
     std::vector<QueryRay> rays(static_cast<std::size_t>(columns));
     std::vector<std::optional<RayHit>> hits(static_cast<std::size_t>(columns));
-    auto& out = errors[std::size_t(thread)];
-    for (int row = thread; row < rows; row += threadCount) {
+    for (int row = int(rowBegin); row < int(rowEnd); ++row) {
+      auto& out = errors[std::size_t(row)];
       const double py = row * stride + 0.5;
       for (int column = 0; column < columns; ++column) {
         const double px = column * stride + 0.5;
@@ -50,10 +53,7 @@ ScreenError measureScreenError(const QueryScene& lodMesh, const QueryScene& trut
       }
     }
   };
-  std::vector<std::thread> workers;
-  for (int t = 1; t < threadCount; ++t) workers.emplace_back(measureRows, t);
-  measureRows(0);
-  for (auto& worker : workers) worker.join();
+  core::ThreadPool(options.threads).forRanges(errors.size(), kRowsPerTask, measureRows);
 
   std::vector<double> all;
   for (auto& band : errors) all.insert(all.end(), band.begin(), band.end());

@@ -1,7 +1,6 @@
 #include <polder/query/surface_deviation.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -9,9 +8,9 @@
 #include <vector>
 
 #include <polder/mix_bits.hpp>
+#include <polder/thread_pool.hpp>
 
 #include "closest_point_scene.hpp"
-#include "worker_threads.hpp"
 
 namespace polder::query {
 
@@ -183,10 +182,8 @@ Result<SurfaceDeviation> measureSurfaceDeviation(const mesh::TriangleMesh& origi
   const std::size_t totalSamples = originalSamples + surfaces[1].sampleCount();
   const std::size_t chunkCount = (totalSamples + kChunkSamples - 1) / kChunkSamples;
   std::vector<ChunkSums> chunks(chunkCount);
-  std::atomic<std::size_t> nextChunk{0};
-
-  auto work = [&] {
-    for (std::size_t chunk = nextChunk++; chunk < chunkCount; chunk = nextChunk++) {
+  auto measureChunks = [&](std::size_t firstChunk, std::size_t endChunk) {
+    for (std::size_t chunk = firstChunk; chunk < endChunk; ++chunk) {
       ChunkSums sums;
       // The previous sample's closest point bounds this sample's distance (it lies on the
       // surface searched), and neighbouring samples are close, so the search starts small.
@@ -220,7 +217,7 @@ Result<SurfaceDeviation> measureSurfaceDeviation(const mesh::TriangleMesh& origi
       chunks[chunk] = sums;
     }
   };
-  detail::runOnThreads(options.threads, chunkCount, work);
+  core::ThreadPool(options.threads).forRanges(chunkCount, 1, measureChunks);
 
   double maxDistanceSquared = 0.0, distanceSquared = 0.0, colourSquared = 0.0;
   for (const ChunkSums& sums : chunks) {

@@ -11,6 +11,7 @@
 #include <polder/terrain/block_quadtree.hpp>
 #include <polder/terrain/normals.hpp>
 #include <polder/terrain/rtin.hpp>
+#include <polder/thread_pool.hpp>
 
 #include "dike_check.hpp"
 #include "terrain_pieces.hpp"
@@ -249,8 +250,10 @@ Result<std::unique_ptr<TerrainEngine>> TerrainEngine::create(std::shared_ptr<con
   if (!(options.alpha > 0.0)) return makeError(ErrorKind::InvalidArgument, "the allocator's alpha must be positive");
   auto layout = terrain::BlockLayout::create(field->width, field->height, options.blockK);
   if (!layout) return layout.error();
+  core::ThreadPool pool(options.threads);
   terrain::BlockQuadtreeOptions treeOptions;
   treeOptions.progress = progress;
+  treeOptions.pool = &pool;
   auto quadtree = terrain::BlockQuadtree::build(*field, *layout, treeOptions);
   if (!quadtree) return quadtree.error();
   auto impl = std::make_unique<Impl>(std::move(field), *layout, std::move(*quadtree), options);

@@ -87,6 +87,7 @@
 #include <polder/camera.hpp>
 #include <polder/frustum.hpp>
 #include <polder/result.hpp>
+#include <polder/thread_pool.hpp>
 #include <polder/terrain/block_layout.hpp>
 #include <polder/terrain/heightfield.hpp>
 
@@ -99,9 +100,9 @@ struct BlockQuadtreeOptions {
   std::function<float(NodeId)> dikeErrorBound;
   // Called on the calling thread with a fraction rising from 0 to 1 (weighted by samples).
   std::function<void(float)> progress;
-  // Worker threads for the node errors, the calling thread included; 0 means
-  // std::thread::hardware_concurrency().
-  int threadCount = 0;
+  // The pool the node errors are built on (the calling thread takes part); null: a pool of
+  // one thread per hardware thread. The tree does not depend on it.
+  core::ThreadPool* pool = nullptr;
 };
 
 // What the tree keeps per node (see the top of this file).

@@ -60,6 +60,9 @@ struct ClusterOptions {
   std::uint32_t stopAtTriangles = 0;
   // Called now and then with the fraction of vertices removed so far.
   std::function<void(double)> progress;
+  // The most threads the build runs on at once (0: one per hardware thread); the steps do
+  // not depend on it.
+  int threads = 0;
 };
 
 // The steps from the original mesh to the coarsest mesh the rules allow; no step joins two

@@ -38,6 +38,9 @@ struct CollapseOptions {
   std::uint32_t stopAtTriangles = 0;
   // Called now and then with the fraction of collapses done (for long builds).
   std::function<void(double)> progress;
+  // The most threads the build runs on at once (0: one per hardware thread); the steps do
+  // not depend on it.
+  int threads = 0;
 };
 
 // The steps from the original mesh down to the coarsest mesh the rules allow. Errors in

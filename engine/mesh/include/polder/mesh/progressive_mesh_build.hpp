@@ -1,9 +1,9 @@
 // Building a progressive mesh in one call: the builder takes its steps on the calling
-// thread while a second thread checks and replays each step as it comes (what
-// ProgressiveMesh::assemble does afterwards otherwise), so the whole sequence costs little
-// more than the builder alone. The result equals buildCollapseSteps or buildClusterSteps
-// followed by ProgressiveMesh::assemble. Where no thread can be started, the two run one
-// after the other.
+// thread while another thread of the pool (options.threads) checks and replays the steps
+// as they come (what ProgressiveMesh::assemble does afterwards otherwise), so the whole
+// sequence costs little more than the builder alone. The result equals buildCollapseSteps
+// or buildClusterSteps followed by ProgressiveMesh::assemble. With one thread, the two run
+// one after the other.
 #pragma once
 
 #include "polder/mesh/cluster_builder.hpp"

@@ -17,7 +17,7 @@ namespace polder::query {
 // shadeTerrain(style, normal, hit z, hit distance) with alpha 255, the normal interpolated
 // barycentrically from terrain::sampleNormal at the hit triangle's three samples (as GL
 // interpolates vertex normals); any other pixel gets style.skyColour with alpha 0.
-// Rows are spread over `threads` std::threads (0 = hardware concurrency).
+// Rows are spread over up to `threads` threads of the pool (0 = one per hardware thread).
 RgbaImage renderReference(const QueryScene& scene, const terrain::Heightfield& field, const Camera& camera,
                           const TerrainStyle& style, int threads = 0);
 

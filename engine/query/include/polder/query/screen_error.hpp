@@ -17,7 +17,7 @@ namespace polder::query {
 
 struct ScreenErrorOptions {
   int pixelStride = 1;  // measure every n-th pixel in x and y
-  int threads = 0;      // 0 = hardware concurrency
+  int threads = 0;      // most threads measuring at once; 0 = one per hardware thread
 };
 
 struct ScreenError {

@@ -26,7 +26,7 @@ namespace polder::query {
 struct SurfaceDeviationOptions {
   std::size_t samplesPerSurface = 200000;  // random points on each surface, besides its vertices
   std::uint64_t seed = 1;
-  int threads = 0;  // threads that query (and Embree builds with); 0 = hardware concurrency
+  int threads = 0;  // most threads querying at once (and Embree builds with); 0 = one per hardware thread
 };
 
 // Distances are relative to the diagonal of the bounding box of the original's used

@@ -46,6 +46,7 @@ struct TerrainEngineOptions {
   double alpha = 3.0;                      // the allocator's attenuation exponent
   std::size_t cacheBytes = std::size_t(256) << 20;
   bool cacheEnabled = true;  // false: rebuild every block every frame (for comparisons)
+  int threads = 0;           // threads that build the block errors in create(); <= 0: all
 };
 
 class TerrainEngine {
