@@ -1,13 +1,13 @@
 #include "cli_support.hpp"
 
+#include <unistd.h>
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <unistd.h>
 
-#include <polder/terrain/dem_reader.hpp>
 #include <polder/terrain/dem_parsing.hpp>
+#include <polder/terrain/dem_reader.hpp>
 
 namespace polder::cli {
 
@@ -15,7 +15,9 @@ void addDemArguments(CLI::App& command, DemArguments& arguments) {
   command.add_option("dem", arguments.path, "DEM file (PNG, TIFF/GeoTIFF, EXR, .hgt, .r16/.raw/.f32)")->required();
   command.add_option("--spacing", arguments.spacingM, "Sample spacing in metres (overrides the file)");
   command.add_option("--zscale", arguments.zScale, "Metres per stored height unit")->capture_default_str();
-  command.add_option("--encoding", arguments.encoding, "Height encoding of RGB(A) images: auto|greyscale|terrain-rgb|terrarium")
+  command
+      .add_option("--encoding", arguments.encoding,
+                  "Height encoding of RGB(A) images: auto|greyscale|terrain-rgb|terrarium")
       ->capture_default_str();
   command.add_option("--nodata", arguments.nodata, "auto (the file's no-data value and int16 -32768/-32767) or none")
       ->capture_default_str();
@@ -57,9 +59,8 @@ Result<std::vector<double>> parseNumbers(std::string_view text, std::size_t coun
     double value = 0.0;
     const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), value);
     if (part.empty() || error != std::errc() || end != part.data() + part.size() || !std::isfinite(value))
-      return makeError(ErrorKind::InvalidArgument,
-                       std::string(what) + " expects " + std::to_string(count) + " comma-separated numbers, got '" +
-                           std::string(text) + "'");
+      return makeError(ErrorKind::InvalidArgument, std::string(what) + " expects " + std::to_string(count) +
+                                                       " comma-separated numbers, got '" + std::string(text) + "'");
     values.push_back(value);
     start = comma + 1;
   }
@@ -72,13 +73,14 @@ Result<std::vector<double>> parseNumbers(std::string_view text, std::size_t coun
 Result<std::pair<int, int>> parseImageSize(std::string_view text) {
   const auto x = text.find('x');
   int width = 0, height = 0;
-  const bool parsed = x != std::string_view::npos &&
-                      std::from_chars(text.data(), text.data() + x, width).ptr == text.data() + x &&
-                      std::from_chars(text.data() + x + 1, text.data() + text.size(), height).ptr ==
-                          text.data() + text.size();
-  if (!parsed) return makeError(ErrorKind::InvalidArgument, "--size expects WxH, e.g. 1280x720, got '" + std::string(text) + "'");
+  const bool parsed =
+      x != std::string_view::npos && std::from_chars(text.data(), text.data() + x, width).ptr == text.data() + x &&
+      std::from_chars(text.data() + x + 1, text.data() + text.size(), height).ptr == text.data() + text.size();
+  if (!parsed)
+    return makeError(ErrorKind::InvalidArgument, "--size expects WxH, e.g. 1280x720, got '" + std::string(text) + "'");
   if (width < 16 || height < 16 || width > 16384 || height > 16384)
-    return makeError(ErrorKind::InvalidArgument, "--size " + std::string(text) + " is out of range (16..16384 per side)");
+    return makeError(ErrorKind::InvalidArgument,
+                     "--size " + std::string(text) + " is out of range (16..16384 per side)");
   return std::pair{width, height};
 }
 

@@ -89,7 +89,8 @@ Result<CameraPath> makePath(const BenchArguments& arguments, const terrain::Heig
     return makeOrbitLoop(field.extentX(), field.extentY(), ground, options);
   }
   std::ifstream file(arguments.path);
-  if (!file) return makeError(ErrorKind::Io, arguments.path + ": cannot open the camera path (give flyover, orbit or a file)");
+  if (!file)
+    return makeError(ErrorKind::Io, arguments.path + ": cannot open the camera path (give flyover, orbit or a file)");
   std::stringstream text;
   text << file.rdbuf();
   auto path = CameraPath::parse(text.str());
@@ -99,8 +100,9 @@ Result<CameraPath> makePath(const BenchArguments& arguments, const terrain::Heig
 
 // The recorded pass: every frame drawn with `headless` (when given) and timed, every
 // --measure-every frames measured against `truth` and checked for watertightness.
-Result<FlightRecord> flyMeasured(FlightRecorder& recorder, const BenchArguments& arguments, const query::QueryScene& truth,
-                                 HeadlessRenderer* headless, const TerrainStyle& style) {
+Result<FlightRecord> flyMeasured(FlightRecorder& recorder, const BenchArguments& arguments,
+                                 const query::QueryScene& truth, HeadlessRenderer* headless,
+                                 const TerrainStyle& style) {
   ProgressBar progress("flying");
   FlightHooks hooks;
   hooks.progress = [&progress](float fraction) { progress.update(fraction); };
@@ -270,9 +272,7 @@ int runBench(BenchArguments arguments) {
         {"dikes_mean", summary.dikeTrianglesMean}}},
       {"blocks", {{"visible_mean", summary.visibleBlocksMean}, {"culled_mean", summary.culledBlocksMean}}},
       {"lod_cache",
-       {{"reuse_rate", summary.cacheReuseRate},
-        {"rebuilds", cached.cacheRebuilds},
-        {"lookups", cached.cacheLookups}}},
+       {{"reuse_rate", summary.cacheReuseRate}, {"rebuilds", cached.cacheRebuilds}, {"lookups", cached.cacheLookups}}},
       {"cpu_ms",
        {{"select", percentileJson(summary.selectMs)},
         {"lod", percentileJson(summary.lodMs)},
@@ -288,19 +288,24 @@ int runBench(BenchArguments arguments) {
         {"bytes_per_frame_mean", summary.pieceBytesPerFrame},
         {"host_data_ratio", summary.hostDataRatio}}},
       {"render_ms", summary.drawn ? percentileJson(summary.renderMs) : nlohmann::json(nullptr)},
-      {"upload_bytes_per_frame",
-       summary.drawn ? nlohmann::json{{"mean", summary.uploadBytesMean},
-                                      {"median", summary.uploadBytes.median},
-                                      {"p99", summary.uploadBytes.p99},
-                                      {"zero_frames", summary.framesUploadingNothing}}
-                     : nlohmann::json(nullptr)},
+      {"upload_bytes_per_frame", summary.drawn ? nlohmann::json{{"mean", summary.uploadBytesMean},
+                                                                {"median", summary.uploadBytes.median},
+                                                                {"p99", summary.uploadBytes.p99},
+                                                                {"zero_frames", summary.framesUploadingNothing}}
+                                               : nlohmann::json(nullptr)},
       {"cracks", arguments.countCracks && arguments.render == "gl"
-                     ? nlohmann::json{{"enclosed_background_px", cached.cracks.enclosedBackgroundPx}, {"crack_px", cached.cracks.crackPx}}
+                     ? nlohmann::json{{"enclosed_background_px", cached.cracks.enclosedBackgroundPx},
+                                      {"crack_px", cached.cracks.crackPx}}
                      : nlohmann::json(nullptr)},
       {"screen_error_px",
-       {{"tau", arguments.tauPx}, {"max", cached.errorMaxPx}, {"p99", cached.errorP99Px}, {"frames_measured", cached.framesMeasured}}},
+       {{"tau", arguments.tauPx},
+        {"max", cached.errorMaxPx},
+        {"p99", cached.errorP99Px},
+        {"frames_measured", cached.framesMeasured}}},
       {"watertight",
-       {{"frames_checked", cached.framesChecked}, {"open_edges", cached.openEdges}, {"t_junctions", cached.tJunctions}}},
+       {{"frames_checked", cached.framesChecked},
+        {"open_edges", cached.openEdges},
+        {"t_junctions", cached.tJunctions}}},
       {"dike_check",
        {{"bound_px_max", cached.dikeBoundMaxPx},
         {"frames_over_tau", cached.dikeFramesOverTau},
@@ -322,12 +327,16 @@ int runBench(BenchArguments arguments) {
               lens.widthPx, lens.heightPx, lens.fovYDeg,
               arguments.mode == "budget" ? ("budget " + std::to_string(arguments.budget) + " triangles").c_str()
                                          : ("tau " + std::to_string(arguments.tauPx) + " px").c_str());
-  std::printf("%-34s %.0f mean, %.0f max (%.2f%% of %.0f full resolution)\n", "triangles per frame", summary.trianglesMean,
-              summary.trianglesMax, 100.0 * summary.trianglesMean / fullResolution, fullResolution);
-  std::printf("%-34s %.1f%% of the triangles\n", "dikes", 100.0 * summary.dikeTrianglesMean / std::max(summary.trianglesMean, 1.0));
-  std::printf("%-34s %.1f visible, %.1f culled\n", "blocks per frame", summary.visibleBlocksMean, summary.culledBlocksMean);
-  std::printf("%-34s %.3f median, %.3f p99 (select %.3f, lod %.3f, dikes %.3f)\n", "cpu ms per frame", summary.totalMs.median,
-              summary.totalMs.p99, summary.selectMs.median, summary.lodMs.median, summary.dikesMs.median);
+  std::printf("%-34s %.0f mean, %.0f max (%.2f%% of %.0f full resolution)\n", "triangles per frame",
+              summary.trianglesMean, summary.trianglesMax, 100.0 * summary.trianglesMean / fullResolution,
+              fullResolution);
+  std::printf("%-34s %.1f%% of the triangles\n", "dikes",
+              100.0 * summary.dikeTrianglesMean / std::max(summary.trianglesMean, 1.0));
+  std::printf("%-34s %.1f visible, %.1f culled\n", "blocks per frame", summary.visibleBlocksMean,
+              summary.culledBlocksMean);
+  std::printf("%-34s %.3f median, %.3f p99 (select %.3f, lod %.3f, dikes %.3f)\n", "cpu ms per frame",
+              summary.totalMs.median, summary.totalMs.p99, summary.selectMs.median, summary.lodMs.median,
+              summary.dikesMs.median);
   std::printf("%-34s %.3f ms median, x%.2f of the rest of the frame; %.0f KB per frame\n", "host data (pieces)",
               summary.piecesMs.median, summary.hostDataRatio, summary.pieceBytesPerFrame / 1024.0);
   if (summary.drawn) {
@@ -351,7 +360,8 @@ int runBench(BenchArguments arguments) {
                 cached.dikeBoundMaxPx, cached.dikeFramesOverTau, arguments.frames, cached.dikeTrianglesOverTauMax);
   if (comparison)
     std::printf("%-34s lod %.1f%% faster, total %.1f%% faster, triangles x%.3f\n", "cache vs no cache",
-                100.0 * comparison->lodMsSavedFraction, 100.0 * comparison->totalMsSavedFraction, comparison->trianglesRatio);
+                100.0 * comparison->lodMsSavedFraction, 100.0 * comparison->totalMsSavedFraction,
+                comparison->trianglesRatio);
   std::printf("%-34s %.0f MB\n", "peak memory", peakRssMb());
 
   if (!arguments.json.empty()) {
@@ -368,26 +378,35 @@ int runBench(BenchArguments arguments) {
 
 void addBenchCommand(CLI::App& app, int& exitCode) {
   auto arguments = std::make_shared<BenchArguments>();
-  CLI::App* command = app.add_subcommand("bench", "Fly a recorded path headless and report LOD, cache, error and timing figures");
+  CLI::App* command =
+      app.add_subcommand("bench", "Fly a recorded path headless and report LOD, cache, error and timing figures");
   addDemArguments(*command, arguments->dem);
-  command->add_option("--preset", arguments->preset, "seed002: the seed's 20x20 blocks of 33x33 at 40 m, 1000 m up, fov 40, 800x800");
-  command->add_option("--path", arguments->path, "flyover, orbit, or a file of 't x y z yaw pitch' lines")->capture_default_str();
+  command->add_option("--preset", arguments->preset,
+                      "seed002: the seed's 20x20 blocks of 33x33 at 40 m, 1000 m up, fov 40, 800x800");
+  command->add_option("--path", arguments->path, "flyover, orbit, or a file of 't x y z yaw pitch' lines")
+      ->capture_default_str();
   command->add_option("--frames", arguments->frames, "Frames at 60 per second of flight")->capture_default_str();
   command->add_option("--tau", arguments->tauPx, "Screen-space error tolerance in pixels")->capture_default_str();
   command->add_option("--size", arguments->size, "Viewport WxH")->capture_default_str();
   command->add_option("--fov", arguments->fovDeg, "Vertical field of view in degrees")->capture_default_str();
-  command->add_option("--render", arguments->render, "none or gl (draw every frame with OSMesa and time it)")->capture_default_str();
-  command->add_option("--measure-every", arguments->measureEvery, "Frames between error and watertightness checks (0: never)")
+  command->add_option("--render", arguments->render, "none or gl (draw every frame with OSMesa and time it)")
+      ->capture_default_str();
+  command
+      ->add_option("--measure-every", arguments->measureEvery,
+                   "Frames between error and watertightness checks (0: never)")
       ->capture_default_str();
   command->add_flag("--compare-cache", arguments->compareCache, "Fly the path again without the LOD cache and compare");
   command->add_flag("--count-cracks", arguments->countCracks,
                     "With --render gl: read every frame back and count pixel cracks between triangles");
   command->add_option("--mode", arguments->mode, "error (tau) or budget (triangle budget)")->capture_default_str();
-  command->add_option("--budget", arguments->budget, "Triangles per frame in budget mode, dikes included")->capture_default_str();
-  command->add_option("--alpha", arguments->alpha, "Attenuation exponent of the budget allocator")->capture_default_str();
+  command->add_option("--budget", arguments->budget, "Triangles per frame in budget mode, dikes included")
+      ->capture_default_str();
+  command->add_option("--alpha", arguments->alpha, "Attenuation exponent of the budget allocator")
+      ->capture_default_str();
   command->add_option("--altitude", arguments->altitudeM, "Metres above the ground")->capture_default_str();
   command->add_option("--speed", arguments->speedMps, "Metres per second")->capture_default_str();
-  command->add_option("--block", arguments->blockSamples, "Block size in samples: 17, 33, 65 or 129")->capture_default_str();
+  command->add_option("--block", arguments->blockSamples, "Block size in samples: 17, 33, 65 or 129")
+      ->capture_default_str();
   command->add_option("--cache-mb", arguments->cacheMb, "LOD cache budget in MiB")->capture_default_str();
   command->add_option("--json", arguments->json, "Write the report here");
   command->add_option("--scene", arguments->scene,
@@ -396,8 +415,9 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   command->callback([arguments, command, &exitCode] {
     arguments->framesGiven = command->count("--frames") > 0;
     if (!arguments->scene.empty()) {
-      exitCode = benchScene(arguments->scene, arguments->framesGiven ? std::optional<int>(arguments->frames) : std::nullopt,
-                            arguments->json);
+      exitCode =
+          benchScene(arguments->scene, arguments->framesGiven ? std::optional<int>(arguments->frames) : std::nullopt,
+                     arguments->json);
     } else if (arguments->dem.path.empty()) {
       std::fprintf(stderr, "polder: error: bench needs a DEM or --scene SCENE.json\n");
       exitCode = kExitUsage;

@@ -49,7 +49,8 @@ struct Flight {
 // meshes uploaded once (--full-res).
 class FlightDrawing {
  public:
-  static Result<FlightDrawing> create(render::Renderer& renderer, const std::shared_ptr<const terrain::Heightfield>& field,
+  static Result<FlightDrawing> create(render::Renderer& renderer,
+                                      const std::shared_ptr<const terrain::Heightfield>& field,
                                       const FlyoverArguments& arguments) {
     FlightDrawing drawing;
     auto debug = parseDebugView(arguments.debug);
@@ -115,7 +116,8 @@ int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) 
     return reportError(makeError(ErrorKind::InvalidArgument, "--frames must be between 1 and 100000"));
   std::error_code error;
   std::filesystem::create_directories(arguments.out, error);
-  if (error) return reportError(makeError(ErrorKind::Io, arguments.out + ": cannot create the folder: " + error.message()));
+  if (error)
+    return reportError(makeError(ErrorKind::Io, arguments.out + ": cannot create the folder: " + error.message()));
 
   auto headless = createHeadlessRenderer(lens.widthPx, lens.heightPx);
   if (!headless) return reportError(headless.error());
@@ -151,10 +153,11 @@ int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) 
     progress.update(float(frame + 1) / float(arguments.frames));
   }
   progress.finish();
-  std::printf("flew %.0f s of a %.0f s loop over %s (%d x %d samples), %zu triangles per frame %s\n",
-              (arguments.frames - 1) * step, flight.path.durationS(), flight.info.path.c_str(), flight.field->width,
-              flight.field->height, triangles / std::size_t(arguments.frames),
-              arguments.fullResolution ? "at full resolution" : ("within " + std::to_string(arguments.tauPx) + " px").c_str());
+  std::printf(
+      "flew %.0f s of a %.0f s loop over %s (%d x %d samples), %zu triangles per frame %s\n",
+      (arguments.frames - 1) * step, flight.path.durationS(), flight.info.path.c_str(), flight.field->width,
+      flight.field->height, triangles / std::size_t(arguments.frames),
+      arguments.fullResolution ? "at full resolution" : ("within " + std::to_string(arguments.tauPx) + " px").c_str());
   std::printf("wrote %d frames (%dx%d) to %s/frame_0000.png ... frame_%04d.png; %.0f ms per frame to draw\n",
               arguments.frames, lens.widthPx, lens.heightPx, arguments.out.c_str(), arguments.frames - 1,
               1000.0 * renderSeconds / arguments.frames);
@@ -202,7 +205,8 @@ int runWindow(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
       flightTime += dt;
       camera = flight.path.at(flightTime).placed(camera);
     } else {
-      const double speed = arguments.flight.speedMps * ((input.held(Key::LeftShift) || input.held(Key::RightShift)) ? 5.0 : 1.0);
+      const double speed =
+          arguments.flight.speedMps * ((input.held(Key::LeftShift) || input.held(Key::RightShift)) ? 5.0 : 1.0);
       if (input.rightButton) {
         camera.yawDeg += 0.15 * input.mouseDelta.x;
         camera.pitchDeg = std::clamp(camera.pitchDeg - 0.15 * input.mouseDelta.y, -89.0, 89.0);
@@ -230,7 +234,8 @@ int runWindow(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
     (*window)->swapBuffers();
     char title[160];
     std::snprintf(title, sizeof title, "Polder flyover - %s - %.0f fps - %zu triangles - %zu KB uploaded",
-                  autopilot ? "autopilot" : "manual", dt > 0.0 ? 1.0 / dt : 0.0, triangles, drawing->uploadedBytes() / 1024);
+                  autopilot ? "autopilot" : "manual", dt > 0.0 ? 1.0 / dt : 0.0, triangles,
+                  drawing->uploadedBytes() / 1024);
     (*window)->setTitle(title);
   }
   return 0;
@@ -243,7 +248,8 @@ int runFlyover(const FlyoverArguments& arguments) {
   if (!(arguments.fovDeg > 1.0 && arguments.fovDeg < 179.0))
     return reportError(makeError(ErrorKind::InvalidArgument, "--fov must be between 1 and 179 degrees"));
   if (!(arguments.flight.speedMps > 0.0) || !(arguments.flight.altitudeM >= 0.0) || arguments.fps < 0.0)
-    return reportError(makeError(ErrorKind::InvalidArgument, "--speed must be positive, --altitude and --fps not negative"));
+    return reportError(
+        makeError(ErrorKind::InvalidArgument, "--speed must be positive, --altitude and --fps not negative"));
   auto flight = prepareFlight(arguments);
   if (!flight) return reportError(flight.error());
   Camera lens;
@@ -272,7 +278,8 @@ void addFlyoverCommand(CLI::App& app, int& exitCode) {
   command->add_option("--out", arguments->out, "Folder for the PNG frames")->capture_default_str();
   command->add_option("--size", arguments->size, "Image or window size WxH")->capture_default_str();
   command->add_option("--fov", arguments->fovDeg, "Vertical field of view in degrees")->capture_default_str();
-  command->add_option("--tau", arguments->tauPx, "Screen-space error tolerance of the LOD mesh, pixels")->capture_default_str();
+  command->add_option("--tau", arguments->tauPx, "Screen-space error tolerance of the LOD mesh, pixels")
+      ->capture_default_str();
   command->add_flag("--full-res", arguments->fullResolution, "Draw every sample instead of the LOD mesh");
   command->add_option("--debug", arguments->debug, "Colouring: lod (blocks by quadtree level), dikes, wire");
   command->add_option("--altitude", arguments->flight.altitudeM, "Metres above the ground")->capture_default_str();

@@ -23,8 +23,9 @@ int runGen(const GenArguments& arguments) {
   const bool png = extension == ".png";
   const bool tiff = extension == ".tif" || extension == ".tiff";
   if (!png && !tiff)
-    return reportError(makeError(ErrorKind::InvalidArgument,
-                                 "--out " + arguments.out + ": the file name must end in .png (16-bit) or .tif (float)"));
+    return reportError(
+        makeError(ErrorKind::InvalidArgument,
+                  "--out " + arguments.out + ": the file name must end in .png (16-bit) or .tif (float)"));
   Result<terrain::Heightfield> field = makeError(ErrorKind::InvalidData, "not generated");
   {
     ProgressBar progress("generating " + std::to_string(arguments.generator.size) + "^2");
@@ -43,9 +44,11 @@ int runGen(const GenArguments& arguments) {
 
 void addGenCommand(CLI::App& app, int& exitCode) {
   auto arguments = std::make_shared<GenArguments>();
-  CLI::App* command = app.add_subcommand("gen", "Generate a realistic synthetic DEM (ridged fractal relief with erosion)");
+  CLI::App* command =
+      app.add_subcommand("gen", "Generate a realistic synthetic DEM (ridged fractal relief with erosion)");
   command->add_option("--size", arguments->generator.size, "Samples per side")->capture_default_str();
-  command->add_option("--seed", arguments->generator.seed, "Random seed (same seed, same terrain)")->capture_default_str();
+  command->add_option("--seed", arguments->generator.seed, "Random seed (same seed, same terrain)")
+      ->capture_default_str();
   command->add_option("--spacing", arguments->generator.spacingM, "Sample spacing in metres")->capture_default_str();
   command->add_option("--out", arguments->out, "Output file: .png (16-bit) or .tif (32-bit float)")->required();
   command->callback([arguments, &exitCode] { exitCode = runGen(*arguments); });

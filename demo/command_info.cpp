@@ -22,16 +22,11 @@ int runInfo(const InfoArguments& arguments) {
   const auto& info = dem->info;
   if (arguments.json) {
     const nlohmann::json report = {
-        {"path", info.path},
-        {"width", field.width},
-        {"height", field.height},
-        {"spacing_m", {field.spacingX, field.spacingY}},
-        {"min_m", info.minM},
-        {"max_m", info.maxM},
-        {"voids", info.voids},
-        {"format", info.format},
-        {"encoding", info.encoding},
-        {"spacing_assumed", info.spacingAssumed},
+        {"path", info.path},         {"width", field.width},
+        {"height", field.height},    {"spacing_m", {field.spacingX, field.spacingY}},
+        {"min_m", info.minM},        {"max_m", info.maxM},
+        {"voids", info.voids},       {"format", info.format},
+        {"encoding", info.encoding}, {"spacing_assumed", info.spacingAssumed},
     };
     std::printf("%s\n", report.dump(2).c_str());
     return 0;
@@ -43,7 +38,8 @@ int runInfo(const InfoArguments& arguments) {
               info.spacingAssumed ? "  (assumed: nothing in the file gives it; use --spacing)" : "");
   std::printf("extent    %.1f x %.1f m\n", field.extentX(), field.extentY());
   std::printf("height    %.2f .. %.2f m\n", info.minM, info.maxM);
-  std::printf("voids     %lld%s\n", static_cast<long long>(info.voids), info.voids > 0 ? " (filled from neighbours)" : "");
+  std::printf("voids     %lld%s\n", static_cast<long long>(info.voids),
+              info.voids > 0 ? " (filled from neighbours)" : "");
   return 0;
 }
 
@@ -53,7 +49,8 @@ void addInfoCommand(CLI::App& app, int& exitCode) {
   auto arguments = std::make_shared<InfoArguments>();
   CLI::App* command = app.add_subcommand("info", "Print a DEM's size, spacing, height range, voids and format");
   addDemArguments(*command, arguments->dem);
-  command->add_flag("--json", arguments->json, "Print JSON: width, height, spacing_m, min_m, max_m, voids, format, encoding, spacing_assumed");
+  command->add_flag("--json", arguments->json,
+                    "Print JSON: width, height, spacing_m, min_m, max_m, voids, format, encoding, spacing_assumed");
   command->callback([arguments, &exitCode] { exitCode = runInfo(*arguments); });
 }
 

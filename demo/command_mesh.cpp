@@ -52,7 +52,8 @@ Status checkOutputFolder(const std::string& file, const char* option) {
   const std::filesystem::path folder = std::filesystem::path(file).parent_path();
   std::error_code code;
   if (!folder.empty() && !std::filesystem::is_directory(folder, code))
-    return makeError(ErrorKind::Io, std::string(option) + " " + file + ": the folder " + folder.string() + " does not exist");
+    return makeError(ErrorKind::Io,
+                     std::string(option) + " " + file + ": the folder " + folder.string() + " does not exist");
   return {};
 }
 
@@ -69,7 +70,8 @@ int runMesh(const MeshArguments& arguments) {
   std::string extension = std::filesystem::path(arguments.out).extension().string();
   for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (extension != ".obj" && extension != ".ply" && extension != ".glb")
-    return reportError(makeError(ErrorKind::InvalidArgument, "--out " + arguments.out + ": the file name must end in .obj, .ply or .glb"));
+    return reportError(makeError(ErrorKind::InvalidArgument,
+                                 "--out " + arguments.out + ": the file name must end in .obj, .ply or .glb"));
   if (Status folder = checkOutputFolder(arguments.out, "--out"); !folder) return reportError(folder.error());
   if (!arguments.json.empty())
     if (Status folder = checkOutputFolder(arguments.json, "--json"); !folder) return reportError(folder.error());
@@ -103,8 +105,8 @@ int runMesh(const MeshArguments& arguments) {
   const double writeSeconds = secondsSince(writeStart), totalSeconds = secondsSince(start);
 
   const std::size_t fullResolution = 2 * std::size_t(field.width - 1) * std::size_t(field.height - 1);
-  std::printf("%-16s %s: %d x %d samples, %.2f x %.2f m\n", "dem", arguments.dem.path.c_str(), field.width, field.height,
-              field.spacingX, field.spacingY);
+  std::printf("%-16s %s: %d x %d samples, %.2f x %.2f m\n", "dem", arguments.dem.path.c_str(), field.width,
+              field.height, field.spacingX, field.spacingY);
   std::printf("%-16s %zu (%zu in blocks, %zu in dikes; %.1f%% of the full resolution's %zu), %zu vertices\n",
               "triangles", result.triangleCount(), result.stats.blockTriangles, result.stats.dikeTriangles,
               100.0 * double(result.triangleCount()) / double(fullResolution), fullResolution, triangles.vertexCount());
@@ -112,16 +114,19 @@ int runMesh(const MeshArguments& arguments) {
               arguments.maxError.c_str(), result.stats.blockMaxErrorM, result.stats.dikeMaxErrorM);
   std::printf("%-16s %s (%zu open edges, %zu T-junctions)\n", "watertight", watertight.watertight() ? "yes" : "NO",
               watertight.openEdges, watertight.tJunctions);
-  std::printf("%-16s %.3f s to build, %.3f s to check watertight, %.3f s to write (%.3f s in all)\n", "time", buildSeconds,
-              checkSeconds, writeSeconds, totalSeconds);
+  std::printf("%-16s %.3f s to build, %.3f s to check watertight, %.3f s to write (%.3f s in all)\n", "time",
+              buildSeconds, checkSeconds, writeSeconds, totalSeconds);
   std::printf("%-16s %s\n", "written", arguments.out.c_str());
 
   if (!arguments.json.empty()) {
     nlohmann::json levels = nlohmann::json::array();
     for (const std::size_t count : result.stats.nodesPerLevel) levels.push_back(count);
     const nlohmann::json report = {
-        {"dem", {{"path", arguments.dem.path}, {"width", field.width}, {"height", field.height},
-                 {"spacing_m", {field.spacingX, field.spacingY}}}},
+        {"dem",
+         {{"path", arguments.dem.path},
+          {"width", field.width},
+          {"height", field.height},
+          {"spacing_m", {field.spacingX, field.spacingY}}}},
         {"max_error_bound_m", *maxError},
         {"block_samples", arguments.blockSamples},
         {"coarser_levels", options.coarserLevels},
@@ -133,8 +138,10 @@ int runMesh(const MeshArguments& arguments) {
         {"max_error_m", result.maxErrorM()},
         {"block_max_error_m", result.stats.blockMaxErrorM},
         {"dike_max_error_m", result.stats.dikeMaxErrorM},
-        {"watertight", {{"ok", watertight.watertight()}, {"open_edges", watertight.openEdges},
-                        {"t_junctions", watertight.tJunctions}}},
+        {"watertight",
+         {{"ok", watertight.watertight()},
+          {"open_edges", watertight.openEdges},
+          {"t_junctions", watertight.tJunctions}}},
         {"nodes_per_level", levels},
         {"pinned_nodes", result.stats.pinnedNodes},
         {"split_nodes", result.stats.splitNodes},
@@ -156,13 +163,14 @@ int runMesh(const MeshArguments& arguments) {
 
 void addMeshCommand(CLI::App& app, int& exitCode) {
   auto arguments = std::make_shared<MeshArguments>();
-  CLI::App* command =
-      app.add_subcommand("mesh", "Write the DEM as one watertight mesh within a vertical error everywhere (for baking)");
+  CLI::App* command = app.add_subcommand(
+      "mesh", "Write the DEM as one watertight mesh within a vertical error everywhere (for baking)");
   addDemArguments(*command, arguments->dem);
   command->add_option("--max-error", arguments->maxError, "Largest vertical error against the DEM's surface, metres")
       ->required()
       ->type_name("METRES");
-  command->add_option("--block", arguments->blockSamples, "Block size in samples: 17, 33, 65 or 129")->capture_default_str();
+  command->add_option("--block", arguments->blockSamples, "Block size in samples: 17, 33, 65 or 129")
+      ->capture_default_str();
   command->add_option("--out", arguments->out, "Output mesh (.obj, .ply or .glb)")->required();
   command->add_option("--json", arguments->json, "Write a JSON report here");
   command->add_flag("--finest-blocks", arguments->finestOnly,
@@ -173,8 +181,9 @@ void addMeshCommand(CLI::App& app, int& exitCode) {
     try {
       exitCode = runMesh(*arguments);
     } catch (const std::bad_alloc&) {
-      exitCode = reportError(makeError(ErrorKind::OutOfMemory, "not enough memory for the mesh of " + arguments->dem.path +
-                                                                   " within " + arguments->maxError + " m"));
+      exitCode =
+          reportError(makeError(ErrorKind::OutOfMemory, "not enough memory for the mesh of " + arguments->dem.path +
+                                                            " within " + arguments->maxError + " m"));
     }
   });
 }

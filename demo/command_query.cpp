@@ -39,10 +39,9 @@ int runQuery(const QueryArguments& arguments) {
   if (!arguments.at.empty()) {
     const auto height = (*scene)->height(numbers[0], numbers[1]);
     if (!height)
-      return reportError(makeError(ErrorKind::InvalidArgument,
-                                   "--at " + arguments.at + " lies outside the DEM (0..." +
-                                       std::to_string(dem->field.extentX()) + ", 0..." +
-                                       std::to_string(dem->field.extentY()) + " m)"));
+      return reportError(makeError(ErrorKind::InvalidArgument, "--at " + arguments.at + " lies outside the DEM (0..." +
+                                                                   std::to_string(dem->field.extentX()) + ", 0..." +
+                                                                   std::to_string(dem->field.extentY()) + " m)"));
     std::printf("%.3f\n", *height);
     return 0;
   }
@@ -61,7 +60,8 @@ int runQuery(const QueryArguments& arguments) {
 
 void addQueryCommand(CLI::App& app, int& exitCode) {
   auto arguments = std::make_shared<QueryArguments>();
-  CLI::App* command = app.add_subcommand("query", "Height under a point, or where a ray hits the terrain (metres, world frame)");
+  CLI::App* command =
+      app.add_subcommand("query", "Height under a point, or where a ray hits the terrain (metres, world frame)");
   addDemArguments(*command, arguments->dem);
   command->add_option("--at", arguments->at, "X,Y: print the surface height there");
   command->add_option("--ray", arguments->ray, "X,Y,Z,DX,DY,DZ: print 'X Y Z DISTANCE' of the hit, or 'miss'");

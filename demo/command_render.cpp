@@ -1,8 +1,8 @@
 // polder render DEM --camera X,Y,Z,YAW,PITCH --out IMG.png: one frame, headless. OpenGL
 // through OSMesa by default; --reference ray casts the same view with Embree.
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <optional>
 
@@ -36,7 +36,8 @@ int runRender(RenderArguments arguments) {
   if (!debug) return reportError(debug.error());
   if (*debug == TerrainDebugView::Wire) arguments.wireframe = true;
   if (arguments.reference && (arguments.wireframe || arguments.tauPx))
-    return reportError(makeError(ErrorKind::InvalidArgument, "--wire and --tau draw meshes; the --reference ray caster has none"));
+    return reportError(
+        makeError(ErrorKind::InvalidArgument, "--wire and --tau draw meshes; the --reference ray caster has none"));
   if ((*debug == TerrainDebugView::Lod || *debug == TerrainDebugView::Dikes) && !arguments.tauPx)
     return reportError(makeError(ErrorKind::InvalidArgument, "--debug lod|dikes colours the LOD mesh: give --tau too"));
   if (arguments.tauPx && !(*arguments.tauPx > 0.0 && std::isfinite(*arguments.tauPx)))
@@ -84,10 +85,12 @@ int runRender(RenderArguments arguments) {
   makeOpaque(image);
   if (Status written = terrain::writeRgbaPng(arguments.out, image); !written) return reportError(written.error());
   if (arguments.reference)
-    std::printf("wrote %s (%dx%d, Embree reference, %.2f s)\n", arguments.out.c_str(), image.width, image.height, seconds);
+    std::printf("wrote %s (%dx%d, Embree reference, %.2f s)\n", arguments.out.c_str(), image.width, image.height,
+                seconds);
   else
     std::printf("wrote %s (%dx%d, %zu triangles %s, %.2f s)\n", arguments.out.c_str(), image.width, image.height,
-                triangles, arguments.tauPx ? ("within " + std::to_string(*arguments.tauPx) + " px").c_str() : "at full resolution",
+                triangles,
+                arguments.tauPx ? ("within " + std::to_string(*arguments.tauPx) + " px").c_str() : "at full resolution",
                 seconds);
   return 0;
 }
@@ -96,7 +99,8 @@ int runRender(RenderArguments arguments) {
 
 void addRenderCommand(CLI::App& app, int& exitCode) {
   auto arguments = std::make_shared<RenderArguments>();
-  CLI::App* command = app.add_subcommand("render", "Render one frame headless (OpenGL via OSMesa, or Embree reference)");
+  CLI::App* command =
+      app.add_subcommand("render", "Render one frame headless (OpenGL via OSMesa, or Embree reference)");
   addDemArguments(*command, arguments->dem);
   command->add_option("--camera", arguments->camera, "X,Y,Z,YAW,PITCH: metres and degrees (yaw clockwise from north)")
       ->required();

@@ -87,7 +87,8 @@ Result<SceneRun> runScene(scene::BuiltScene& loaded, int frames, const std::stri
     run.terrainMs.push_back(stats.terrain.totalMs);
     run.objects = stats.objects;
     run.allocatedRegionsMax = std::max(run.allocatedRegionsMax, stats.allocatedRegions);
-    run.framesWithinBudget += budget && stats.triangles() <= budgetTriangles && stats.triangles() >= budgetTriangles * 9 / 10;
+    run.framesWithinBudget +=
+        budget && stats.triangles() <= budgetTriangles && stats.triangles() >= budgetTriangles * 9 / 10;
     if (headless && index % every == 0) {
       drawScene(*headless->renderer, *drawer, *loaded.scene, camera, loaded.style);
       if (Status s = headless->renderer->endFrame(); !s) return s.error();
@@ -106,8 +107,10 @@ Result<SceneRun> runScene(scene::BuiltScene& loaded, int frames, const std::stri
         for (std::uint32_t r = 0; r < model.mesh().regionCount(); ++r) {
           if (!loaded.scene->regionVisible(int(n), r)) continue;
           const Aabb& box = model.regionBox(r);
-          const glm::dvec3 centre(loaded.scene->worldMatrix(int(n)) * glm::dvec4(0.5 * (box.minCorner + box.maxCorner), 1.0));
-          run.lastFrameRegions.push_back({glm::length(centre - camera.position), loaded.scene->instance(int(n)).triangleCount(r)});
+          const glm::dvec3 centre(loaded.scene->worldMatrix(int(n)) *
+                                  glm::dvec4(0.5 * (box.minCorner + box.maxCorner), 1.0));
+          run.lastFrameRegions.push_back(
+              {glm::length(centre - camera.position), loaded.scene->instance(int(n)).triangleCount(r)});
         }
       }
     }
@@ -119,8 +122,9 @@ void printRun(const scene::BuiltScene& loaded, const SceneRun& run, int frames) 
   const scene::SceneOptions& options = loaded.scene->options();
   const Percentiles allocator = percentiles(run.allocatorMs), total = percentiles(run.totalMs);
   std::printf("%-30s %d frames, %s\n", "scene", frames,
-              options.mode == LodMode::TriangleBudget ? ("budget " + std::to_string(options.budgetTriangles) + " triangles").c_str()
-                                                      : ("tau " + std::to_string(options.tauPx) + " px").c_str());
+              options.mode == LodMode::TriangleBudget
+                  ? ("budget " + std::to_string(options.budgetTriangles) + " triangles").c_str()
+                  : ("tau " + std::to_string(options.tauPx) + " px").c_str());
   std::printf("%-30s %.0f mean, %.0f max\n", "triangles per frame", mean(run.triangles),
               run.triangles.empty() ? 0.0 : *std::max_element(run.triangles.begin(), run.triangles.end()));
   if (options.mode == LodMode::TriangleBudget)
@@ -129,11 +133,13 @@ void printRun(const scene::BuiltScene& loaded, const SceneRun& run, int frames) 
               mean(run.visibleObjects), mean(run.regions), mean(run.objectTriangles));
   if (run.lastFrameRegions.size() > 1) {
     auto byDistance = run.lastFrameRegions;
-    std::sort(byDistance.begin(), byDistance.end(), [](const RegionShare& a, const RegionShare& b) { return a.distanceM < b.distanceM; });
+    std::sort(byDistance.begin(), byDistance.end(),
+              [](const RegionShare& a, const RegionShare& b) { return a.distanceM < b.distanceM; });
     std::uint32_t most = 0;
     for (const RegionShare& r : byDistance) most = std::max(most, r.triangles);
-    std::printf("%-30s nearest %u, farthest %u, most %u triangles (last frame, %zu regions)\n", "mesh regions by distance",
-                byDistance.front().triangles, byDistance.back().triangles, most, byDistance.size());
+    std::printf("%-30s nearest %u, farthest %u, most %u triangles (last frame, %zu regions)\n",
+                "mesh regions by distance", byDistance.front().triangles, byDistance.back().triangles, most,
+                byDistance.size());
   }
   std::printf("%-30s %.3f median, %.3f p99 (%zu regions at most)\n", "allocator ms", allocator.median, allocator.p99,
               run.allocatedRegionsMax);
@@ -170,8 +176,8 @@ int runSceneWindow(scene::BuiltScene& loaded, std::optional<int> frames) {
     (*window)->swapBuffers();
     char title[160];
     std::snprintf(title, sizeof title, "Polder scene - %llu triangles (%llu in %zu objects)",
-                  static_cast<unsigned long long>(stats.triangles()), static_cast<unsigned long long>(stats.objectTriangles),
-                  stats.visibleObjects);
+                  static_cast<unsigned long long>(stats.triangles()),
+                  static_cast<unsigned long long>(stats.objectTriangles), stats.visibleObjects);
     (*window)->setTitle(title);
   }
   return 0;
@@ -215,7 +221,8 @@ int benchScene(const std::string& sceneFile, std::optional<int> frames, const st
       {"scene", sceneFile},
       {"config",
        {{"mode", options.mode == LodMode::TriangleBudget ? "budget" : "error"},
-        {"budget_tris", options.mode == LodMode::TriangleBudget ? nlohmann::json(options.budgetTriangles) : nlohmann::json(nullptr)},
+        {"budget_tris",
+         options.mode == LodMode::TriangleBudget ? nlohmann::json(options.budgetTriangles) : nlohmann::json(nullptr)},
         {"tau_px", options.tauPx},
         {"alpha", options.alpha},
         {"frames", frameCount},
@@ -224,7 +231,8 @@ int benchScene(const std::string& sceneFile, std::optional<int> frames, const st
       {"triangles",
        {{"mean", mean(run->triangles)},
         {"max", run->triangles.empty() ? 0.0 : *std::max_element(run->triangles.begin(), run->triangles.end())},
-        {"frames_within_budget", options.mode == LodMode::TriangleBudget ? nlohmann::json(run->framesWithinBudget) : nlohmann::json(nullptr)}}},
+        {"frames_within_budget",
+         options.mode == LodMode::TriangleBudget ? nlohmann::json(run->framesWithinBudget) : nlohmann::json(nullptr)}}},
       {"objects",
        {{"count", run->objects},
         {"visible_mean", mean(run->visibleObjects)},
@@ -249,7 +257,8 @@ int benchScene(const std::string& sceneFile, std::optional<int> frames, const st
 
 void addSceneCommand(CLI::App& app, int& exitCode) {
   auto arguments = std::make_shared<SceneArguments>();
-  CLI::App* command = app.add_subcommand("scene", "Run a scene file (terrain, mesh objects, animation) and render its frames");
+  CLI::App* command =
+      app.add_subcommand("scene", "Run a scene file (terrain, mesh objects, animation) and render its frames");
   command->add_option("scene", arguments->file, "Scene file (JSON, see docs/scene_format.md)")->required();
   command->add_option("--frames", arguments->frames, "Frames to run (default: the scene's)");
   command->add_option("--out", arguments->out, "Render frames headless (OSMesa) into this folder as PNG");

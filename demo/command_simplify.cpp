@@ -106,9 +106,8 @@ int runSimplify(const SimplifyArguments& arguments) {
   std::printf("%-20s %s: %zu vertices, %zu triangles%s%s\n", "input", arguments.input.c_str(), original->vertexCount(),
               original->triangleCount(), original->hasColours() ? ", colours" : "", original->hasUvs() ? ", uvs" : "");
 
-  const mesh::RegionPartition partition = arguments.regions <= 1
-                                              ? mesh::singleRegion()
-                                              : mesh::automaticPartition(original->positions, arguments.regions);
+  const mesh::RegionPartition partition =
+      arguments.regions <= 1 ? mesh::singleRegion() : mesh::automaticPartition(original->positions, arguments.regions);
   const auto buildStart = std::chrono::steady_clock::now();
   Result<mesh::ProgressiveMesh> progressive = makeError(ErrorKind::InvalidArgument, "unknown builder");
   {
@@ -157,7 +156,8 @@ int runSimplify(const SimplifyArguments& arguments) {
   std::printf("%-20s hausdorff %.3g, rms %.3g (of the bounding-box diagonal)%s\n", "distance", deviation->hausdorff,
               deviation->rms, "");
   if (original->hasColours()) std::printf("%-20s %.4g (RMS, RGB in [0,1])\n", "colour error", deviation->colourRms);
-  std::printf("%-20s %s, %zu open edges added\n", "checks", subset ? "original vertices only" : "NEW VERTICES", addedOpenEdges);
+  std::printf("%-20s %s, %zu open edges added\n", "checks", subset ? "original vertices only" : "NEW VERTICES",
+              addedOpenEdges);
   std::printf("%-20s %s\n", "written", arguments.out.c_str());
 
   if (!arguments.json.empty()) {
@@ -190,7 +190,9 @@ void addSimplifyCommand(CLI::App& app, int& exitCode) {
   CLI::App* command = app.add_subcommand("simplify", "Build a progressive mesh and write it at N triangles");
   command->add_option("mesh", arguments->input, "OBJ or PLY mesh")->required();
   command->add_option("--triangles", arguments->triangles, "Triangles to keep")->required();
-  command->add_option("--builder", arguments->builder, "collapse (quadric half-edge collapses) or cluster (floating-cell clustering)")
+  command
+      ->add_option("--builder", arguments->builder,
+                   "collapse (quadric half-edge collapses) or cluster (floating-cell clustering)")
       ->check(CLI::IsMember({"collapse", "cluster"}));
   command->add_option("--regions", arguments->regions, "Split the mesh into about this many regions")
       ->check(CLI::Range(1u, 100000u));

@@ -24,7 +24,9 @@ int main(int argc, char** argv) {
     return false;
   };
   if (argc > 1 && argv[1][0] != '-' && !isCommand(argv[1])) {
-    std::fprintf(stderr, "polder: error: unknown command '%s' (commands: info, gen, render, query, flyover, bench, simplify, scene, mesh; see --help)\n",
+    std::fprintf(stderr,
+                 "polder: error: unknown command '%s' (commands: info, gen, render, query, flyover, bench, simplify, "
+                 "scene, mesh; see --help)\n",
                  argv[1]);
     return polder::cli::kExitUsage;
   }

@@ -38,7 +38,8 @@ Result<glm::dvec3> vec3Of(const SceneReader& reader, const json& value, const st
     return reader.error(where, "expected [x, y] or [x, y, z]");
   glm::dvec3 out(0.0);
   for (std::size_t k = 0; k < value.size(); ++k) {
-    if (!value[k].is_number() || !std::isfinite(value[k].get<double>())) return reader.error(where, "not a finite number");
+    if (!value[k].is_number() || !std::isfinite(value[k].get<double>()))
+      return reader.error(where, "not a finite number");
     out[int(k)] = value[k].get<double>();
   }
   return out;
@@ -139,7 +140,8 @@ Result<scene::DemDescription> demOf(const SceneReader& reader, const json& value
   dem.file = reader.resolve(value["dem"]);
   if (value.contains("spacing")) {
     const double spacing = value["spacing"].get<double>();
-    if (!(spacing > 0.0) || !std::isfinite(spacing)) return reader.error(where + ".spacing", "must be a positive number of metres");
+    if (!(spacing > 0.0) || !std::isfinite(spacing))
+      return reader.error(where + ".spacing", "must be a positive number of metres");
     dem.options.spacingM = spacing;
   }
   dem.options.zScale = value.value("z_scale", 1.0);
@@ -187,9 +189,12 @@ Result<scene::ModelDescription> modelOf(const SceneReader& reader, const std::st
     }
   }
   const std::string builder = value.value("builder", std::string("collapse"));
-  if (builder == "collapse") model.builder = scene::ProgressiveMeshBuilder::Collapse;
-  else if (builder == "cluster") model.builder = scene::ProgressiveMeshBuilder::Cluster;
-  else return reader.error(where + ".builder", "unknown builder '" + builder + "' (collapse, cluster)");
+  if (builder == "collapse")
+    model.builder = scene::ProgressiveMeshBuilder::Collapse;
+  else if (builder == "cluster")
+    model.builder = scene::ProgressiveMeshBuilder::Cluster;
+  else
+    return reader.error(where + ".builder", "unknown builder '" + builder + "' (collapse, cluster)");
   return model;
 }
 
@@ -216,7 +221,8 @@ Result<scene::NodeDescription> nodeOf(const SceneReader& reader, const json& val
   // "repeat": copies of an orbiting node, each a little further out and phase-shifted.
   const json repeat = value.value("repeat", json::object());
   node.repeat.count = repeat.value("count", 1);
-  if (node.repeat.count < 1 || node.repeat.count > 100000) return reader.error(where + ".repeat.count", "must be 1..100000");
+  if (node.repeat.count < 1 || node.repeat.count > 100000)
+    return reader.error(where + ".repeat.count", "must be 1..100000");
   node.repeat.phaseStepDeg = repeat.value("phase_step_deg", 0.0);
   node.repeat.radiusStep = repeat.value("radius_step", 0.0);
   node.repeat.periodStepS = repeat.value("period_step_s", 0.0);
@@ -257,7 +263,10 @@ Status cameraOf(const SceneReader& reader, const json& root, scene::SceneDescrip
   using Kind = scene::CameraPathDescription::Kind;
   scene::CameraPathDescription& path = description.cameraPath;
   const std::string name = camera.value("path", std::string("static"));
-  path.kind = name == "static" ? Kind::Static : name == "flyover" ? Kind::Flyover : name == "orbit" ? Kind::Orbit : Kind::File;
+  path.kind = name == "static"    ? Kind::Static
+              : name == "flyover" ? Kind::Flyover
+              : name == "orbit"   ? Kind::Orbit
+                                  : Kind::File;
   if (path.kind == Kind::File) path.file = reader.resolve(name);
   if (path.kind == Kind::Flyover || path.kind == Kind::Orbit) {
     path.altitudeM = camera.value("altitude", 300.0);
@@ -272,7 +281,10 @@ Result<scene::SceneDescription> describe(const SceneReader& reader, const json& 
     auto dem = demOf(reader, root["terrain"], "terrain");
     if (!dem) return dem.error();
     const int block = root["terrain"].value("block", 33);
-    description.terrain = scene::TerrainDescription{std::move(*dem), block == 17 ? 4 : block == 65 ? 6 : block == 129 ? 7 : 5};
+    description.terrain = scene::TerrainDescription{std::move(*dem), block == 17    ? 4
+                                                                     : block == 65  ? 6
+                                                                     : block == 129 ? 7
+                                                                                    : 5};
   }
   if (root.contains("models")) {
     if (!root["models"].is_object()) return reader.error("models", "expected an object of named models");

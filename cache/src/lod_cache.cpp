@@ -34,8 +34,8 @@ std::uint64_t hashNode(NodeId node) {
 }  // namespace
 
 std::size_t meshBytes(const BlockMesh& mesh) {
-  std::size_t bytes = mesh.vertices.capacity() * sizeof(terrain::GridVertex) +
-                      mesh.indices.capacity() * sizeof(std::uint32_t);
+  std::size_t bytes =
+      mesh.vertices.capacity() * sizeof(terrain::GridVertex) + mesh.indices.capacity() * sizeof(std::uint32_t);
   for (const auto& side : mesh.edges) bytes += side.capacity() * sizeof(std::uint32_t);
   return bytes;
 }
@@ -128,7 +128,9 @@ const BlockMesh& LodCache::acquire(NodeId node, const BlockLod& lod, const LodVi
           ++m_counters.hits;
           if (outcome) *outcome = LodOutcome::Reused;
           return slot.mesh;
-        case LodVerdict::TooCoarse: result = LodOutcome::RebuiltTooCoarse; break;
+        case LodVerdict::TooCoarse:
+          result = LodOutcome::RebuiltTooCoarse;
+          break;
         case LodVerdict::NeedlesslyFine:
           // The camera moved away: the pins were for a nearer view. The frame's dike check
           // pins again what the new view still needs.
@@ -200,13 +202,27 @@ void LodCache::finishBuild(std::uint32_t index, LodOutcome outcome) {
   slot.bytes = bytes;
   ++m_counters.rebuilds;
   switch (outcome) {
-    case LodOutcome::Built: ++m_counters.built; break;
-    case LodOutcome::RebuiltTooCoarse: ++m_counters.tooCoarse; break;
-    case LodOutcome::RebuiltNeedlesslyFine: ++m_counters.needlesslyFine; break;
-    case LodOutcome::RebuiltChanged: ++m_counters.changed; break;
-    case LodOutcome::RebuiltPinned: ++m_counters.pinned; break;
-    case LodOutcome::RebuiltUncached: ++m_counters.uncached; break;
-    case LodOutcome::Reused: assert(false && "LodCache::finishBuild: a reuse is not a build"); break;
+    case LodOutcome::Built:
+      ++m_counters.built;
+      break;
+    case LodOutcome::RebuiltTooCoarse:
+      ++m_counters.tooCoarse;
+      break;
+    case LodOutcome::RebuiltNeedlesslyFine:
+      ++m_counters.needlesslyFine;
+      break;
+    case LodOutcome::RebuiltChanged:
+      ++m_counters.changed;
+      break;
+    case LodOutcome::RebuiltPinned:
+      ++m_counters.pinned;
+      break;
+    case LodOutcome::RebuiltUncached:
+      ++m_counters.uncached;
+      break;
+    case LodOutcome::Reused:
+      assert(false && "LodCache::finishBuild: a reuse is not a build");
+      break;
   }
   evictToBudget(index);
 }
@@ -327,10 +343,14 @@ void LodCache::linkFront(std::uint32_t index) {
 
 void LodCache::unlink(std::uint32_t index) {
   Slot& slot = *m_slots[index];
-  if (slot.prev != kNone) m_slots[slot.prev]->next = slot.next;
-  else m_head = slot.next;
-  if (slot.next != kNone) m_slots[slot.next]->prev = slot.prev;
-  else m_tail = slot.prev;
+  if (slot.prev != kNone)
+    m_slots[slot.prev]->next = slot.next;
+  else
+    m_head = slot.next;
+  if (slot.next != kNone)
+    m_slots[slot.next]->prev = slot.prev;
+  else
+    m_tail = slot.prev;
   slot.prev = slot.next = kNone;
 }
 

@@ -85,8 +85,8 @@ void summarizeLod(const BlockLod& lod, const LodView& view, const BlockMesh& mes
   assert(view.projectionConstant > 0.0 && "summarizeLod: projectionConstant must be positive");
   const int cells = lod.footprint().cells();
   const int perSide = std::min(kLodRegionsPerSide, cells);  // k = 1 blocks have 2 cells per side
-  const int width = cells / perSide;                          // cells per sub-region side
-  const int shift = std::countr_zero(unsigned(width));        // a power of two: shifts, not divisions
+  const int width = cells / perSide;                        // cells per sub-region side
+  const int shift = std::countr_zero(unsigned(width));      // a power of two: shifts, not divisions
   const int cellsX = lod.cellsX(), cellsY = lod.cellsY();
 
   out.view = view;
@@ -130,9 +130,9 @@ void summarizeLod(const BlockLod& lod, const LodView& view, const BlockMesh& mes
       const double sphere = glm::length(lod.position(mi, mj) - view.camera) - double(lod.vertexRadius(mi, mj));
       const glm::dvec3 p0 = lod.position(v[0].i, v[0].j), p1 = lod.position(v[1].i, v[1].j),
                        p2 = lod.position(v[2].i, v[2].j);
-      const glm::dvec3 gap = glm::max(glm::max(glm::min(glm::min(p0, p1), p2) - view.camera,
-                                               view.camera - glm::max(glm::max(p0, p1), p2)),
-                                      glm::dvec3(0.0));
+      const glm::dvec3 gap =
+          glm::max(glm::max(glm::min(glm::min(p0, p1), p2) - view.camera, view.camera - glm::max(glm::max(p0, p1), p2)),
+                   glm::dvec3(0.0));
       const double reach = std::max(sphere, glm::length(gap));
       margin = reach - double(error) * k / tau;
       if (margin < 0.0 && margin >= -kMarginRounding * std::max(1.0, std::fabs(reach))) margin = 0.0;
@@ -184,7 +184,7 @@ LodVerdict testLodReuse(const LodSummary& summary, const LodView& view, const Lo
       const double boxDistance = regionDistance(summary, region, rx, ry, view.camera);
       const double distance = std::max(boxDistance, view.nearM);
       const bool boxPasses = k * double(region.errorM) <= tau * distance;  // test (a)
-      if (!boxPasses) {                                                      // test (b)
+      if (!boxPasses) {                                                    // test (b)
         if (!sameView || !(approachBound(summary, region, rx, ry, view.camera, boxDistance) <= region.marginM))
           return LodVerdict::TooCoarse;
       }

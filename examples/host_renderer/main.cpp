@@ -17,19 +17,34 @@
 #include <polder/polder.hpp>
 
 // The GL 3.3 core entry points the host uses, loaded through GLFW.
-#define HOST_GL(X)                                                                                             \
-  X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays) X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                   \
-  X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays) X(PFNGLGENBUFFERSPROC, GenBuffers)                       \
-  X(PFNGLBINDBUFFERPROC, BindBuffer) X(PFNGLBUFFERDATAPROC, BufferData) X(PFNGLDELETEBUFFERSPROC, DeleteBuffers) \
-  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                                                 \
-  X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer) X(PFNGLCREATESHADERPROC, CreateShader)                  \
-  X(PFNGLSHADERSOURCEPROC, ShaderSource) X(PFNGLCOMPILESHADERPROC, CompileShader)                              \
-  X(PFNGLCREATEPROGRAMPROC, CreateProgram) X(PFNGLATTACHSHADERPROC, AttachShader)                              \
-  X(PFNGLLINKPROGRAMPROC, LinkProgram) X(PFNGLUSEPROGRAMPROC, UseProgram)                                      \
-  X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation) X(PFNGLUNIFORM2FPROC, Uniform2f)                          \
-  X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv) X(PFNGLDRAWELEMENTSPROC, DrawElements)                        \
-  X(PFNGLCLEARCOLORPROC, ClearColor) X(PFNGLCLEARPROC, Clear) X(PFNGLENABLEPROC, Enable)                       \
-  X(PFNGLVIEWPORTPROC, Viewport) X(PFNGLREADPIXELSPROC, ReadPixels)
+// clang-format off
+#define HOST_GL(X) \
+  X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays) \
+  X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray) \
+  X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays) \
+  X(PFNGLGENBUFFERSPROC, GenBuffers) \
+  X(PFNGLBINDBUFFERPROC, BindBuffer) \
+  X(PFNGLBUFFERDATAPROC, BufferData) \
+  X(PFNGLDELETEBUFFERSPROC, DeleteBuffers) \
+  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray) \
+  X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer) \
+  X(PFNGLCREATESHADERPROC, CreateShader) \
+  X(PFNGLSHADERSOURCEPROC, ShaderSource) \
+  X(PFNGLCOMPILESHADERPROC, CompileShader) \
+  X(PFNGLCREATEPROGRAMPROC, CreateProgram) \
+  X(PFNGLATTACHSHADERPROC, AttachShader) \
+  X(PFNGLLINKPROGRAMPROC, LinkProgram) \
+  X(PFNGLUSEPROGRAMPROC, UseProgram) \
+  X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation) \
+  X(PFNGLUNIFORM2FPROC, Uniform2f) \
+  X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv) \
+  X(PFNGLDRAWELEMENTSPROC, DrawElements) \
+  X(PFNGLCLEARCOLORPROC, ClearColor) \
+  X(PFNGLCLEARPROC, Clear) \
+  X(PFNGLENABLEPROC, Enable) \
+  X(PFNGLVIEWPORTPROC, Viewport) \
+  X(PFNGLREADPIXELSPROC, ReadPixels)
+// clang-format on
 namespace {
 #define DECLARE(type, name) type gl##name = nullptr;
 HOST_GL(DECLARE)
@@ -151,7 +166,8 @@ int main(int argc, char** argv) {
   std::size_t terrainPixels = 0;
   for (std::size_t i = 3; i < pixels.size(); i += 4) terrainPixels += pixels[i] == 255;
   std::printf("uploaded %zu pieces, %zu while still; %zu pieces held; terrain %.0f%% of the last frame\n", uploads,
-              stillUploads, pieces.size(), 100.0 * double(terrainPixels) / double(std::max<std::size_t>(pixels.size() / 4, 1)));
+              stillUploads, pieces.size(),
+              100.0 * double(terrainPixels) / double(std::max<std::size_t>(pixels.size() / 4, 1)));
   for (auto& [key, piece] : pieces) release(piece);
   glfwTerminate();
   return 0;

@@ -225,7 +225,8 @@ Result<BlockQuadtree> BlockQuadtree::build(const Heightfield& field, const Block
 
   std::optional<core::ThreadPool> ownPool;
   core::ThreadPool& pool = options.pool ? *options.pool : ownPool.emplace();
-  const std::size_t workers = std::min<std::size_t>(std::size_t(pool.threadCount()), std::max<std::size_t>(jobs.size(), 1));
+  const std::size_t workers =
+      std::min<std::size_t>(std::size_t(pool.threadCount()), std::max<std::size_t>(jobs.size(), 1));
   pool.forRanges(workers, 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t w = begin; w < end; ++w) work();
   });

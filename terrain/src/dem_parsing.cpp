@@ -27,7 +27,8 @@ Result<RawLayout> parseRawLayout(std::string_view text) {
   std::string_view rest = text.substr(firstColon + 1);
   const std::size_t secondColon = rest.find(':');
   const std::string_view type = rest.substr(0, secondColon);
-  const std::string_view order = secondColon == std::string_view::npos ? std::string_view() : rest.substr(secondColon + 1);
+  const std::string_view order =
+      secondColon == std::string_view::npos ? std::string_view() : rest.substr(secondColon + 1);
 
   RawLayout layout;
   const std::size_t x = size.find('x');
@@ -35,14 +36,21 @@ Result<RawLayout> parseRawLayout(std::string_view text) {
       !parsePositiveInt(size.substr(x + 1), layout.height))
     return rawLayoutError(text, "the size must be two positive whole numbers WxH");
 
-  if (type == "u16") layout.type = SampleType::U16;
-  else if (type == "i16") layout.type = SampleType::I16;
-  else if (type == "f32") layout.type = SampleType::F32;
-  else return rawLayoutError(text, "unknown sample type '" + std::string(type) + "'");
+  if (type == "u16")
+    layout.type = SampleType::U16;
+  else if (type == "i16")
+    layout.type = SampleType::I16;
+  else if (type == "f32")
+    layout.type = SampleType::F32;
+  else
+    return rawLayoutError(text, "unknown sample type '" + std::string(type) + "'");
 
-  if (secondColon == std::string_view::npos || order == "le") layout.bigEndian = false;
-  else if (order == "be") layout.bigEndian = true;
-  else return rawLayoutError(text, "unknown byte order '" + std::string(order) + "'");
+  if (secondColon == std::string_view::npos || order == "le")
+    layout.bigEndian = false;
+  else if (order == "be")
+    layout.bigEndian = true;
+  else
+    return rawLayoutError(text, "unknown byte order '" + std::string(order) + "'");
   return layout;
 }
 
@@ -53,19 +61,23 @@ std::string rawLayoutName(const RawLayout& layout) {
 }
 
 Result<HeightEncoding> parseHeightEncoding(std::string_view text) {
-  for (HeightEncoding encoding : {HeightEncoding::Auto, HeightEncoding::Greyscale, HeightEncoding::TerrainRgb,
-                                  HeightEncoding::Terrarium})
+  for (HeightEncoding encoding :
+       {HeightEncoding::Auto, HeightEncoding::Greyscale, HeightEncoding::TerrainRgb, HeightEncoding::Terrarium})
     if (text == heightEncodingName(encoding)) return encoding;
-  return makeError(ErrorKind::InvalidArgument, "height encoding '" + std::string(text) +
-                                                   "' is not one of auto, greyscale, terrain-rgb, terrarium");
+  return makeError(ErrorKind::InvalidArgument,
+                   "height encoding '" + std::string(text) + "' is not one of auto, greyscale, terrain-rgb, terrarium");
 }
 
 const char* heightEncodingName(HeightEncoding encoding) {
   switch (encoding) {
-    case HeightEncoding::Auto: return "auto";
-    case HeightEncoding::Greyscale: return "greyscale";
-    case HeightEncoding::TerrainRgb: return "terrain-rgb";
-    case HeightEncoding::Terrarium: return "terrarium";
+    case HeightEncoding::Auto:
+      return "auto";
+    case HeightEncoding::Greyscale:
+      return "greyscale";
+    case HeightEncoding::TerrainRgb:
+      return "terrain-rgb";
+    case HeightEncoding::Terrarium:
+      return "terrarium";
   }
   return "unknown";
 }

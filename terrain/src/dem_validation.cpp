@@ -54,9 +54,10 @@ Status checkRasterSize(std::uint64_t width, std::uint64_t height, std::uint64_t 
   const double needed = double(samples) * double(bytesPerSample);
   const std::uint64_t limit = memoryLimitBytes ? memoryLimitBytes : physicalMemoryBytes();
   if (limit && needed > double(limit))
-    return makeError(ErrorKind::OutOfMemory, size + " need " + formatBytes(needed) + " to read, more than the " +
-                                                 (memoryLimitBytes ? "memory limit of " : "machine's physical memory of ") +
-                                                 formatBytes(double(limit)));
+    return makeError(ErrorKind::OutOfMemory,
+                     size + " need " + formatBytes(needed) + " to read, more than the " +
+                         (memoryLimitBytes ? "memory limit of " : "machine's physical memory of ") +
+                         formatBytes(double(limit)));
   return {};
 }
 

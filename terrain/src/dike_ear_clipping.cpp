@@ -24,9 +24,7 @@ std::int64_t orient(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int6
 // Orders diagonals by length; of two equally long ones, the one running north-west to
 // south-east first, the direction heightfield.hpp cuts its cells: a junction of one cell
 // (where full-detail sides meet at a corner) is then cut like the surface, error 0.
-std::int64_t diagonalRank(std::int64_t dx, std::int64_t dy) {
-  return 2 * (dx * dx + dy * dy) + (dx * dy > 0 ? 1 : 0);
-}
+std::int64_t diagonalRank(std::int64_t dx, std::int64_t dy) { return 2 * (dx * dx + dy * dy) + (dx * dy > 0 ? 1 : 0); }
 
 void evaluateEar(std::vector<DikeScratch::Ear>& ears, std::uint32_t i) {
   DikeScratch::Ear& e = ears[i];
@@ -65,9 +63,7 @@ const char* clipEars(std::span<const std::uint32_t> polygon, const DikeVertex* p
     const DikeVertex& r = point(poly[c]);
     return orient(p.x, p.y, q.x, q.y, r.x, r.y);
   };
-  auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    triangle(poly[a], poly[b], poly[c]);
-  };
+  auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) { triangle(poly[a], poly[b], poly[c]); };
   if (m == 3) {  // most junctions are triangles or quadrilaterals: no lists needed
     if (o(0, 1, 2) <= 0) return "a degenerate junction triangle";
     emit(0, 1, 2);

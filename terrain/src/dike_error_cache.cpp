@@ -12,8 +12,7 @@ namespace {
 
 std::uint64_t key(const DikeVertex& v) { return (std::uint64_t(std::uint32_t(v.x)) << 32) | std::uint32_t(v.y); }
 
-bool same(const DikeErrorCache::Triangle& t, const DikeVertex& a, const DikeVertex& b,
-          const DikeVertex& c) {
+bool same(const DikeErrorCache::Triangle& t, const DikeVertex& a, const DikeVertex& b, const DikeVertex& c) {
   return t.v[0] == a && t.v[1] == b && t.v[2] == c;
 }
 
@@ -40,8 +39,7 @@ void DikeErrorCache::reserveTable(std::size_t triangles) {
   }
 }
 
-const DikeErrorCache::Triangle& DikeErrorCache::lookUp(const DikeVertex& a, const DikeVertex& b,
-                                                       const DikeVertex& c) {
+const DikeErrorCache::Triangle& DikeErrorCache::lookUp(const DikeVertex& a, const DikeVertex& b, const DikeVertex& c) {
   const std::size_t lo = m_cursor > kWindowBehind ? m_cursor - kWindowBehind : 0;
   const std::size_t hi = std::min(m_previous.size(), m_cursor + kWindowAhead);
   std::size_t found = m_previous.size();
@@ -64,15 +62,12 @@ const DikeErrorCache::Triangle& DikeErrorCache::lookUp(const DikeVertex& a, cons
   return m_current.back();
 }
 
-float DikeErrorCache::rememberedError(const DikeVertex& a, const DikeVertex& b,
-                                      const DikeVertex& c) {
+float DikeErrorCache::rememberedError(const DikeVertex& a, const DikeVertex& b, const DikeVertex& c) {
   if (m_entries.empty()) reserveTable(0);
   // One key per triangle whatever vertex it starts at: the least vertex first (the winding,
   // counter-clockwise for every dike triangle, is kept).
   DikeVertex v[3] = {a, b, c};
-  const auto less = [](const DikeVertex& p, const DikeVertex& q) {
-    return p.x != q.x ? p.x < q.x : p.y < q.y;
-  };
+  const auto less = [](const DikeVertex& p, const DikeVertex& q) { return p.x != q.x ? p.x < q.x : p.y < q.y; };
   if (less(v[1], v[0]) && less(v[1], v[2]))
     std::rotate(v, v + 1, v + 3);
   else if (less(v[2], v[0]) && less(v[2], v[1]))

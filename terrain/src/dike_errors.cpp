@@ -182,8 +182,9 @@ float dikeTriangleErrors(const Heightfield& field, const DikeMesh& dikes, std::v
   if (perTriangle) perTriangle->resize(count);
   float worst = 0.0f;
   for (std::size_t t = 0; t < count; ++t) {
-    const float e = dikeTriangleError(field, dikes.vertices[dikes.indices[3 * t]], dikes.vertices[dikes.indices[3 * t + 1]],
-                                      dikes.vertices[dikes.indices[3 * t + 2]]);
+    const float e =
+        dikeTriangleError(field, dikes.vertices[dikes.indices[3 * t]], dikes.vertices[dikes.indices[3 * t + 1]],
+                          dikes.vertices[dikes.indices[3 * t + 2]]);
     if (perTriangle) (*perTriangle)[t] = e;
     worst = std::max(worst, e);
   }

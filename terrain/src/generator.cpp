@@ -27,12 +27,10 @@ std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t stream) {
 }
 
 // Sixteen unit gradients at multiples of 22.5 degrees, as literals (no libm at run time).
-constexpr double kGradX[16] = {1.0,        0.92387953, 0.70710678, 0.38268343,  0.0,         -0.38268343,
-                               -0.70710678, -0.92387953, -1.0,      -0.92387953, -0.70710678, -0.38268343,
-                               0.0,        0.38268343, 0.70710678, 0.92387953};
-constexpr double kGradY[16] = {0.0,         0.38268343,  0.70710678,  0.92387953, 1.0,        0.92387953,
-                               0.70710678,  0.38268343,  0.0,         -0.38268343, -0.70710678, -0.92387953,
-                               -1.0,        -0.92387953, -0.70710678, -0.38268343};
+constexpr double kGradX[16] = {1.0,  0.92387953,  0.70710678,  0.38268343,  0.0, -0.38268343, -0.70710678, -0.92387953,
+                               -1.0, -0.92387953, -0.70710678, -0.38268343, 0.0, 0.38268343,  0.70710678,  0.92387953};
+constexpr double kGradY[16] = {0.0, 0.38268343,  0.70710678,  0.92387953,  1.0,  0.92387953,  0.70710678,  0.38268343,
+                               0.0, -0.38268343, -0.70710678, -0.92387953, -1.0, -0.92387953, -0.70710678, -0.38268343};
 
 double gradientAt(std::int64_t ix, std::int64_t iy, double dx, double dy, std::uint64_t seed) {
   const std::uint64_t h =
@@ -233,7 +231,8 @@ Result<Heightfield> generateTerrain(const GeneratorOptions& options, const std::
     return field;
   } catch (const std::bad_alloc&) {
     const std::string size = std::to_string(options.size);
-    return makeError(ErrorKind::OutOfMemory, "generateTerrain: not enough memory for a " + size + " x " + size + " terrain");
+    return makeError(ErrorKind::OutOfMemory,
+                     "generateTerrain: not enough memory for a " + size + " x " + size + " terrain");
   }
 }
 

@@ -33,7 +33,7 @@ namespace {
 // The eight neighbours, in a fixed order (the order matters for determinism, not for the result).
 constexpr int kNeighbourDx[8] = {1, 1, 0, -1, -1, -1, 0, 1};
 constexpr int kNeighbourDy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
-constexpr std::uint8_t kOutlet = 0xff;     // a border sample: water leaves the map
+constexpr std::uint8_t kOutlet = 0xff;  // a border sample: water leaves the map
 constexpr std::uint8_t kUnvisited = 0xfe;
 constexpr float kChannelArea = 16.0f;  // samples draining through a sample before rivers erode it
 constexpr double kLakeSilting = 0.3;   // share of a lake's depth filled with sediment per iteration
@@ -351,9 +351,9 @@ void erodeDroplets(Heightfield& field, const DropletOptions& options, std::uint6
   std::vector<float> work(field.heights.size());
   for (std::size_t i = 0; i < work.size(); ++i) work[i] = float(field.heights[i] / cellSide);
 
-  constexpr double kInertia = 0.05;      // how much a droplet keeps its direction
-  constexpr double kCapacity = 4.0;      // sediment a unit of water carries per unit of drop and speed
-  constexpr double kMinSlope = 0.01;     // keeps capacity above zero on flats
+  constexpr double kInertia = 0.05;   // how much a droplet keeps its direction
+  constexpr double kCapacity = 4.0;   // sediment a unit of water carries per unit of drop and speed
+  constexpr double kMinSlope = 0.01;  // keeps capacity above zero on flats
   constexpr double kGravity = 4.0;
   constexpr double kEvaporation = 0.02;  // per step
   constexpr double kMaxSpeed = 4.0;      // caps capacity on long steep runs

@@ -22,21 +22,30 @@ constexpr std::uint16_t kRasterPixelIsPoint = 2;
 
 Result<double> angularUnitDegrees(std::optional<std::uint16_t> code) {
   switch (code.value_or(9102)) {
-    case 9101: return 180.0 / std::numbers::pi;  // radian
-    case 9102: return 1.0;                       // degree
-    case 9103: return 1.0 / 60.0;                // arc-minute
-    case 9104: return 1.0 / 3600.0;              // arc-second
-    case 9105: return 0.9;                       // grad
+    case 9101:
+      return 180.0 / std::numbers::pi;  // radian
+    case 9102:
+      return 1.0;  // degree
+    case 9103:
+      return 1.0 / 60.0;  // arc-minute
+    case 9104:
+      return 1.0 / 3600.0;  // arc-second
+    case 9105:
+      return 0.9;  // grad
   }
   return makeError(ErrorKind::Unsupported, "GeoTIFF angular unit " + std::to_string(*code) + " is not supported");
 }
 
 Result<double> linearUnitMetres(std::optional<std::uint16_t> code) {
   switch (code.value_or(9001)) {
-    case 9001: return 1.0;              // metre
-    case 9002: return 0.3048;           // international foot
-    case 9003: return 1200.0 / 3937.0;  // US survey foot
-    case 9036: return 1000.0;           // kilometre
+    case 9001:
+      return 1.0;  // metre
+    case 9002:
+      return 0.3048;  // international foot
+    case 9003:
+      return 1200.0 / 3937.0;  // US survey foot
+    case 9036:
+      return 1000.0;  // kilometre
   }
   return makeError(ErrorKind::Unsupported, "GeoTIFF linear unit " + std::to_string(*code) + " is not supported");
 }

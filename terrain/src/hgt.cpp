@@ -18,8 +18,9 @@ int hgtSizeFromLength(std::uint64_t bytes) {
 
 Status checkHgtLength(std::uint64_t bytes) {
   if (hgtSizeFromLength(bytes) != 0) return {};
-  return makeError(ErrorKind::InvalidData, "an SRTM .hgt tile has 2884802 (1201^2) or 25934402 (3601^2) bytes, this one " +
-                                               std::to_string(bytes));
+  return makeError(
+      ErrorKind::InvalidData,
+      "an SRTM .hgt tile has 2884802 (1201^2) or 25934402 (3601^2) bytes, this one " + std::to_string(bytes));
 }
 
 std::optional<int> hgtSouthLatitude(std::string_view fileName) {
@@ -40,7 +41,8 @@ Result<Dem> decodeHgt(std::span<const std::byte> bytes, std::string_view fileNam
   if (Status length = checkHgtLength(bytes.size()); !length) return length.error();
   const int size = hgtSizeFromLength(bytes.size());
   if (options.encoding == HeightEncoding::TerrainRgb || options.encoding == HeightEncoding::Terrarium)
-    return makeError(ErrorKind::InvalidArgument, "an SRTM .hgt tile holds int16 heights; the encoding option does not apply");
+    return makeError(ErrorKind::InvalidArgument,
+                     "an SRTM .hgt tile holds int16 heights; the encoding option does not apply");
 
   SampleSource source;
   source.data = bytes.data();

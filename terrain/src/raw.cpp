@@ -12,9 +12,12 @@ namespace {
 
 SampleFormat sampleFormat(SampleType type) {
   switch (type) {
-    case SampleType::U16: return SampleFormat::U16;
-    case SampleType::I16: return SampleFormat::I16;
-    case SampleType::F32: return SampleFormat::F32;
+    case SampleType::U16:
+      return SampleFormat::U16;
+    case SampleType::I16:
+      return SampleFormat::I16;
+    case SampleType::F32:
+      return SampleFormat::F32;
   }
   return SampleFormat::U16;
 }
@@ -36,7 +39,8 @@ Result<Dem> decodeRaw(std::span<const std::byte> bytes, const RawLayout& layout,
     return makeError(ErrorKind::InvalidData, "raw layout " + described + " needs " + std::to_string(expected) +
                                                  " bytes but the file has " + std::to_string(bytes.size()));
   if (options.encoding == HeightEncoding::TerrainRgb || options.encoding == HeightEncoding::Terrarium)
-    return makeError(ErrorKind::InvalidArgument, "a raw file holds one height per sample; the encoding option does not apply");
+    return makeError(ErrorKind::InvalidArgument,
+                     "a raw file holds one height per sample; the encoding option does not apply");
 
   SampleSource source;
   source.data = bytes.data();

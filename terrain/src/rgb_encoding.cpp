@@ -16,8 +16,10 @@ Heightfield decodeRgbHeights(const RgbView& view, HeightEncoding encoding, bool 
     const std::uint8_t* in = view.pixels + std::size_t(row) * std::size_t(view.width) * std::size_t(view.channels);
     float* out = field.heights.data() + std::size_t(view.height - 1 - row) * std::size_t(view.width);
     for (int x = 0; x < view.width; ++x, in += view.channels) {
-      if (hasAlpha && in[3] == 0) out[x] = std::numeric_limits<float>::quiet_NaN();
-      else out[x] = float(terrainRgb ? decodeTerrainRgb(in[0], in[1], in[2]) : decodeTerrarium(in[0], in[1], in[2]));
+      if (hasAlpha && in[3] == 0)
+        out[x] = std::numeric_limits<float>::quiet_NaN();
+      else
+        out[x] = float(terrainRgb ? decodeTerrainRgb(in[0], in[1], in[2]) : decodeTerrarium(in[0], in[1], in[2]));
     }
   }
   return field;

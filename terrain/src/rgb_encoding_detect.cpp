@@ -11,9 +11,9 @@
 namespace polder::terrain {
 namespace {
 
-constexpr double kLowestEarthM = -11000.0;   // below the Challenger Deep
-constexpr double kHighestEarthM = 9000.0;    // above Everest
-constexpr double kPlausibleFraction = 0.99;  // allow for a few spikes
+constexpr double kLowestEarthM = -11000.0;      // below the Challenger Deep
+constexpr double kHighestEarthM = 9000.0;       // above Everest
+constexpr double kPlausibleFraction = 0.99;     // allow for a few spikes
 constexpr std::size_t kProbeSamples = 1 << 18;  // enough to decide; keeps 4096^2 tiles fast
 
 struct Plausibility {
@@ -76,9 +76,9 @@ Result<HeightEncoding> detectRgbEncoding(const RgbView& view) {
   if (rgbPlausible) return HeightEncoding::TerrainRgb;
   if (terrariumPlausible) return HeightEncoding::Terrarium;
   const auto percent = [](double f) { return std::to_string(int(std::lround(f * 100.0))); };
-  return makeError(ErrorKind::InvalidData,
-                   "RGB image is neither Terrain-RGB (" + percent(rgb.inRange) + "% of heights plausible) nor Terrarium (" +
-                       percent(terrarium.inRange) + "% plausible); pass the encoding explicitly");
+  return makeError(ErrorKind::InvalidData, "RGB image is neither Terrain-RGB (" + percent(rgb.inRange) +
+                                               "% of heights plausible) nor Terrarium (" + percent(terrarium.inRange) +
+                                               "% plausible); pass the encoding explicitly");
 }
 
 }  // namespace polder::terrain

@@ -235,10 +235,10 @@ Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {
   const int n = fp.cells(), s = fp.stride;
   if (field.width < 2 || field.height < 2 || fp.x0 >= field.width - 1 || fp.y0 >= field.height - 1 ||
       (field.width - 1 - fp.x0) / s < 1 || (field.height - 1 - fp.y0) / s < 1) {
-    return makeError(ErrorKind::InvalidArgument,
-                     "BlockLod::build: block at sample (" + std::to_string(fp.x0) + ", " + std::to_string(fp.y0) +
-                         ") with stride " + std::to_string(s) + " has no whole cell inside the " +
-                         std::to_string(field.width) + " x " + std::to_string(field.height) + " field");
+    return makeError(ErrorKind::InvalidArgument, "BlockLod::build: block at sample (" + std::to_string(fp.x0) + ", " +
+                                                     std::to_string(fp.y0) + ") with stride " + std::to_string(s) +
+                                                     " has no whole cell inside the " + std::to_string(field.width) +
+                                                     " x " + std::to_string(field.height) + " field");
   }
   const int cellsX = std::min(n, (field.width - 1 - fp.x0) / s);
   const int cellsY = std::min(n, (field.height - 1 - fp.y0) / s);
@@ -314,8 +314,7 @@ Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {
           halves[1] = counterClockwise(ci + 1, cj + 1, ci + 1, cj, ci, cj + 1);
         }
         for (const Tri& t : halves) {
-          const double err =
-              exactTriangleError(window, t, hAt(t.ax, t.ay), hAt(t.bx, t.by), hAt(t.cx, t.cy));
+          const double err = exactTriangleError(window, t, hAt(t.ax, t.ay), hAt(t.bx, t.by), hAt(t.cx, t.cy));
           const int sideIndex = triangleSide(t.ax, t.ay, t.bx, t.by, t.cx, t.cy);
           m_leafError[(std::size_t(cj) * n + ci) * 2 + sideIndex] = roundUp(err);
         }
@@ -531,8 +530,8 @@ float BlockLod::triangleError(GridVertex apex, GridVertex b, GridVertex c) const
       const bool southWestToNorthEast = ((ci + cj) & 1) == 0;
       const bool cutSouthWestToNorthEast = (b.i - c.i) == (b.j - c.j);
       // The bintree's cut, or at stride 1 the surface's (how a diamond's halves are drawn).
-      const bool isDiagonal = cutSouthWestToNorthEast == southWestToNorthEast ||
-                              (m_footprint.stride == 1 && !cutSouthWestToNorthEast);
+      const bool isDiagonal =
+          cutSouthWestToNorthEast == southWestToNorthEast || (m_footprint.stride == 1 && !cutSouthWestToNorthEast);
       found = std::abs(b.j - c.j) == 1 && isDiagonal && (apex.i == ci || apex.i == ci + 1) &&
               (apex.j == cj || apex.j == cj + 1) && !(apex.i == b.i && apex.j == b.j) &&
               !(apex.i == c.i && apex.j == c.j);

@@ -114,7 +114,7 @@ template <class Active, class Leaf>
 void BlockLod::walkTriangle(int ax, int ay, int bx, int by, int cx, int cy, Active& active, Leaf& leaf) const {
   // Nothing of a clipped block's outside reaches the mesh.
   if (m_clipped && (std::min({ax, bx, cx}) >= m_cellsX || std::min({ay, by, cy}) >= m_cellsY)) return;
-  const int mx2 = bx + cx, my2 = by + cy;  // doubled hypotenuse midpoint
+  const int mx2 = bx + cx, my2 = by + cy;                                           // doubled hypotenuse midpoint
   const int sideIndex = (2 * ax > mx2 || (2 * ax == mx2 && 2 * ay > my2)) ? 1 : 0;  // as triangleSide
   if (detail::isHalfCell(bx, cx)) {
     const int ci = std::min(bx, cx), cj = std::min(by, cy);

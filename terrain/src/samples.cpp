@@ -35,7 +35,9 @@ Result<Heightfield> decodeTyped(const SampleSource& source, const SampleDecoding
   const bool nanIsVoid = decoding.nodata && std::isnan(*decoding.nodata);
   // Compare in the stored type's precision: GDAL writes a float's no-data as its double text.
   const bool hasNodata = decoding.nodata && !nanIsVoid;
-  const double nodata = !hasNodata ? 0.0 : std::is_same_v<T, float> ? double(float(*decoding.nodata)) : *decoding.nodata;
+  const double nodata = !hasNodata                 ? 0.0
+                        : std::is_same_v<T, float> ? double(float(*decoding.nodata))
+                                                   : *decoding.nodata;
   const bool int16Voids = decoding.int16Voids && std::is_same_v<T, std::int16_t>;
   constexpr float kVoid = std::numeric_limits<float>::quiet_NaN();
   constexpr double kFloatMax = std::numeric_limits<float>::max();
@@ -78,26 +80,37 @@ Result<Heightfield> decodeTyped(const SampleSource& source, const SampleDecoding
 
 std::size_t sampleFormatBytes(SampleFormat format) {
   switch (format) {
-    case SampleFormat::U8: return 1;
+    case SampleFormat::U8:
+      return 1;
     case SampleFormat::U16:
-    case SampleFormat::I16: return 2;
+    case SampleFormat::I16:
+      return 2;
     case SampleFormat::U32:
     case SampleFormat::I32:
-    case SampleFormat::F32: return 4;
-    case SampleFormat::F64: return 8;
+    case SampleFormat::F32:
+      return 4;
+    case SampleFormat::F64:
+      return 8;
   }
   return 0;
 }
 
 const char* sampleFormatName(SampleFormat format) {
   switch (format) {
-    case SampleFormat::U8: return "uint8";
-    case SampleFormat::U16: return "uint16";
-    case SampleFormat::I16: return "int16";
-    case SampleFormat::U32: return "uint32";
-    case SampleFormat::I32: return "int32";
-    case SampleFormat::F32: return "float32";
-    case SampleFormat::F64: return "float64";
+    case SampleFormat::U8:
+      return "uint8";
+    case SampleFormat::U16:
+      return "uint16";
+    case SampleFormat::I16:
+      return "int16";
+    case SampleFormat::U32:
+      return "uint32";
+    case SampleFormat::I32:
+      return "int32";
+    case SampleFormat::F32:
+      return "float32";
+    case SampleFormat::F64:
+      return "float64";
   }
   return "unknown";
 }
@@ -106,13 +119,20 @@ Result<Heightfield> decodeSamples(const SampleSource& source, const SampleDecodi
   assert(source.data && source.width > 0 && source.height > 0 && "decodeSamples: empty source");
   assert(source.channel >= 0 && source.channel < source.channels && "decodeSamples: channel out of range");
   switch (source.format) {
-    case SampleFormat::U8: return decodeTyped<std::uint8_t>(source, decoding);
-    case SampleFormat::U16: return decodeTyped<std::uint16_t>(source, decoding);
-    case SampleFormat::I16: return decodeTyped<std::int16_t>(source, decoding);
-    case SampleFormat::U32: return decodeTyped<std::uint32_t>(source, decoding);
-    case SampleFormat::I32: return decodeTyped<std::int32_t>(source, decoding);
-    case SampleFormat::F32: return decodeTyped<float>(source, decoding);
-    case SampleFormat::F64: return decodeTyped<double>(source, decoding);
+    case SampleFormat::U8:
+      return decodeTyped<std::uint8_t>(source, decoding);
+    case SampleFormat::U16:
+      return decodeTyped<std::uint16_t>(source, decoding);
+    case SampleFormat::I16:
+      return decodeTyped<std::int16_t>(source, decoding);
+    case SampleFormat::U32:
+      return decodeTyped<std::uint32_t>(source, decoding);
+    case SampleFormat::I32:
+      return decodeTyped<std::int32_t>(source, decoding);
+    case SampleFormat::F32:
+      return decodeTyped<float>(source, decoding);
+    case SampleFormat::F64:
+      return decodeTyped<double>(source, decoding);
   }
   return makeError(ErrorKind::Unsupported, "unknown sample format");
 }

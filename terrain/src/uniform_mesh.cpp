@@ -31,8 +31,8 @@ constexpr int kMaxLoweredExtractions = 3;
 // Phase 1's record per node of every level.
 struct Choice {
   double cost = kInfinity;  // triangles plus kept side vertices of the best cut under the node
-  bool self = false;       // that best cut is the node alone
-  bool feasible = false;   // the node itself can be drawn within the bound at its stride
+  bool self = false;        // that best cut is the node alone
+  bool feasible = false;    // the node itself can be drawn within the bound at its stride
 };
 
 // One node of the cut during the stitching rounds.
@@ -41,16 +41,17 @@ struct CutEntry {
   BlockMesh mesh;
   BoundaryPins pins;
   float threshold = 0.0f;
-  int lowered = 0;         // extractions below a failing block triangle's error so far
-  float measuredM = 0.0f;  // the largest measured error of the mesh's triangles
-  bool dirty = true;       // to be extracted (and checked) again
-  bool fromChoice = false; // the mesh is phase 1's, extracted but not checked yet
-  bool split = false;      // to be replaced by its children's best cuts
+  int lowered = 0;          // extractions below a failing block triangle's error so far
+  float measuredM = 0.0f;   // the largest measured error of the mesh's triangles
+  bool dirty = true;        // to be extracted (and checked) again
+  bool fromChoice = false;  // the mesh is phase 1's, extracted but not checked yet
+  bool split = false;       // to be replaced by its children's best cuts
 };
 
 DikeVertex globalVertex(const BlockMesh& mesh, std::uint32_t index) {
   const GridVertex& v = mesh.vertices[index];
-  return DikeVertex{mesh.footprint.x0 + int(v.i) * mesh.footprint.stride, mesh.footprint.y0 + int(v.j) * mesh.footprint.stride};
+  return DikeVertex{mesh.footprint.x0 + int(v.i) * mesh.footprint.stride,
+                    mesh.footprint.y0 + int(v.j) * mesh.footprint.stride};
 }
 
 std::size_t keptSideVertices(const BlockMesh& mesh) {
@@ -195,8 +196,9 @@ class UniformMeshBuilder {
       bool failing = false;
       const BlockMesh& mesh = entry.mesh;
       for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-        const float e = dikeTriangleError(m_field, globalVertex(mesh, mesh.indices[t]), globalVertex(mesh, mesh.indices[t + 1]),
-                                          globalVertex(mesh, mesh.indices[t + 2]));
+        const float e =
+            dikeTriangleError(m_field, globalVertex(mesh, mesh.indices[t]), globalVertex(mesh, mesh.indices[t + 1]),
+                              globalVertex(mesh, mesh.indices[t + 2]));
         measured = std::max(measured, e);
         if (!(double(e) > m_options.maxErrorM)) continue;
         failing = true;
@@ -255,8 +257,8 @@ class UniformMeshBuilder {
   }
 
   // Pins the sides of every entry beside the failing dike triangle with bounding box `box`;
-  // where none was added (nor is waiting for the next extraction), marks the coarsest entry of level 1 or more that the box touches
-  // for splitting. False when neither is possible.
+  // where none was added (nor is waiting for the next extraction), marks the coarsest entry of level 1 or more that the
+  // box touches for splitting. False when neither is possible.
   bool refineAround(const SampleRect& box) {
     const int pitch = m_layout.pitch(), nx = m_layout.nodesX(0), ny = m_layout.nodesY(0);
     // Level-0 blocks whose footprints (ends shared with the next block) meet the box.
@@ -333,7 +335,8 @@ class UniformMeshBuilder {
         failing = true;
         const SampleRect box{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::max({a.x, b.x, c.x}),
                              std::max({a.y, b.y, c.y})};
-        if (!refineAround(box)) return internalError("a dike triangle misses the bound between level-0 blocks at full detail");
+        if (!refineAround(box))
+          return internalError("a dike triangle misses the bound between level-0 blocks at full detail");
       }
       progress(0.6f + 0.4f * (1.0f - 1.0f / float(round + 1)));
       if (!failing) {
@@ -346,7 +349,8 @@ class UniformMeshBuilder {
   }
 
   Error internalError(const std::string& what) const {
-    return makeError(ErrorKind::InvalidData, "uniform mesh within " + std::to_string(m_options.maxErrorM) + " m: " + what);
+    return makeError(ErrorKind::InvalidData,
+                     "uniform mesh within " + std::to_string(m_options.maxErrorM) + " m: " + what);
   }
 
   Result<UniformMesh> finish() {
@@ -394,7 +398,8 @@ Result<UniformMesh> buildUniformMesh(const Heightfield& field, const UniformMesh
   auto layout = BlockLayout::create(field.width, field.height, options.blockK);
   if (!layout) return layout.error();
   for (const float h : field.heights)
-    if (!std::isfinite(h)) return makeError(ErrorKind::InvalidData, "the DEM has non-finite heights (no-data left unfilled?)");
+    if (!std::isfinite(h))
+      return makeError(ErrorKind::InvalidData, "the DEM has non-finite heights (no-data left unfilled?)");
   try {
     UniformMeshBuilder builder(field, options, *layout);
     return builder.run();
@@ -455,7 +460,8 @@ mesh::TriangleMesh uniformMeshTriangles(const Heightfield& field, const UniformM
     for (const std::uint32_t index : block.indices) out.indices.push_back(remap[index]);
   }
   remap.resize(mesh.dikes.vertices.size());
-  for (std::uint32_t v = 0; v < mesh.dikes.vertices.size(); ++v) remap[v] = indexOf(mesh.dikes.vertices[v].x, mesh.dikes.vertices[v].y);
+  for (std::uint32_t v = 0; v < mesh.dikes.vertices.size(); ++v)
+    remap[v] = indexOf(mesh.dikes.vertices[v].x, mesh.dikes.vertices[v].y);
   for (const std::uint32_t index : mesh.dikes.indices) out.indices.push_back(remap[index]);
   return out;
 }

@@ -58,7 +58,9 @@ float upsample(const Level& coarse, int x, int y) {
   const float tx = fx - float(x0), ty = fy - float(y0);
   const int xa = std::clamp(x0, 0, coarse.width - 1), xb = std::clamp(x0 + 1, 0, coarse.width - 1);
   const int ya = std::clamp(y0, 0, coarse.height - 1), yb = std::clamp(y0 + 1, 0, coarse.height - 1);
-  const auto at = [&](int cx, int cy) { return coarse.value[std::size_t(cy) * std::size_t(coarse.width) + std::size_t(cx)]; };
+  const auto at = [&](int cx, int cy) {
+    return coarse.value[std::size_t(cy) * std::size_t(coarse.width) + std::size_t(cx)];
+  };
   const float bottom = at(xa, ya) + (at(xb, ya) - at(xa, ya)) * tx;
   const float top = at(xa, yb) + (at(xb, yb) - at(xa, yb)) * tx;
   return bottom + (top - bottom) * ty;

@@ -142,8 +142,8 @@ void runArea(benchmark::State& state, const std::vector<OrientedBox>& boxes) {
     benchmark::DoNotOptimize(total);
   }
   state.counters["heapAllocs"] = double(g_allocations.load() - allocationsBefore);
-  state.counters["boxesPerSec"] = benchmark::Counter(double(boxes.size()) * double(state.iterations()),
-                                                     benchmark::Counter::kIsRate);
+  state.counters["boxesPerSec"] =
+      benchmark::Counter(double(boxes.size()) * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 
 void BM_ProjectedAreaTerrainBlocks(benchmark::State& state) { runArea<projectedAreaPx>(state, terrainBlocks()); }

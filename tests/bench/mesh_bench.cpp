@@ -86,7 +86,8 @@ std::vector<double> parseList(const std::string& text) {
 // south) as the npm package sees an image: (x, r) is sample (x, size - 1 - r).
 class Martini {
  public:
-  explicit Martini(const Heightfield& field) : m_field(field), m_size(field.width), m_errors(std::size_t(m_size) * m_size, 0.0f) {
+  explicit Martini(const Heightfield& field)
+      : m_field(field), m_size(field.width), m_errors(std::size_t(m_size) * m_size, 0.0f) {
     const int tile = m_size - 1;
     const std::size_t smallest = std::size_t(tile) * tile;
     const std::size_t count = smallest * 2 - 2, parents = count - smallest;
@@ -114,7 +115,8 @@ class Martini {
       float& error = m_errors[index(mx, my)];
       error = std::max(error, std::fabs(interpolated - height(mx, my)));
       if (i < parents) {
-        error = std::max({error, m_errors[index((ax + cx) >> 1, (ay + cy) >> 1)], m_errors[index((bx + cx) >> 1, (by + cy) >> 1)]});
+        error = std::max(
+            {error, m_errors[index((ax + cx) >> 1, (ay + cy) >> 1)], m_errors[index((bx + cx) >> 1, (by + cy) >> 1)]});
       }
     }
   }
@@ -176,7 +178,8 @@ struct StrictMartini {
 
 // The largest threshold whose true max error is within the bound (binary search: the meshes
 // are nested, so their error falls with the threshold, up to the rounding of a few planes).
-StrictMartini strictMartini(const Martini& martini, const std::vector<float>& thresholds, double bound, bool samplesOnly) {
+StrictMartini strictMartini(const Martini& martini, const std::vector<float>& thresholds, double bound,
+                            bool samplesOnly) {
   StrictMartini best;
   const std::vector<DikeVertex> full = martini.mesh(-1.0f);
   best.triangles = full.size() / 3;
@@ -213,14 +216,22 @@ int main(int argc, char** argv) {
       if (a + 1 >= argc) fail(arg + " needs a value");
       return argv[++a];
     };
-    if (arg == "--crop") crop = std::stoi(next());
-    else if (arg == "--errors") bounds = parseList(next());
-    else if (arg == "--blocks") blocks = parseList(next());
-    else if (arg == "--json") jsonPath = next();
-    else if (arg == "--write-crop") cropPath = next();
-    else if (arg.rfind("--benchmark", 0) == 0) continue;  // `./run bench` passes Google Benchmark's options to all
-    else if (!arg.empty() && arg[0] != '-') demPath = arg, explicitDem = true;
-    else fail("unknown option " + arg);
+    if (arg == "--crop")
+      crop = std::stoi(next());
+    else if (arg == "--errors")
+      bounds = parseList(next());
+    else if (arg == "--blocks")
+      blocks = parseList(next());
+    else if (arg == "--json")
+      jsonPath = next();
+    else if (arg == "--write-crop")
+      cropPath = next();
+    else if (arg.rfind("--benchmark", 0) == 0)
+      continue;  // `./run bench` passes Google Benchmark's options to all
+    else if (!arg.empty() && arg[0] != '-')
+      demPath = arg, explicitDem = true;
+    else
+      fail("unknown option " + arg);
   }
   if (crop < 3 || ((crop - 1) & (crop - 2)) != 0) fail("--crop must be 2^k + 1 (Martini's grid)");
   if (!explicitDem && !std::filesystem::exists(demPath)) {
@@ -233,8 +244,9 @@ int main(int argc, char** argv) {
   if (!cropped) fail(cropped.error().message);
   const Heightfield& field = *cropped;
   const bool defaultCrop = demPath.filename() == "mt_rainier_90m_srtm3.tif" && crop == 513;
-  std::printf("%s, %d x %d at the centre (spacing %.2f x %.2f m), %zu full-resolution triangles\n", demPath.string().c_str(),
-              crop, crop, field.spacingX, field.spacingY, std::size_t(2) * (crop - 1) * (crop - 1));
+  std::printf("%s, %d x %d at the centre (spacing %.2f x %.2f m), %zu full-resolution triangles\n",
+              demPath.string().c_str(), crop, crop, field.spacingX, field.spacingY,
+              std::size_t(2) * (crop - 1) * (crop - 1));
 
   if (!cropPath.empty()) {
     std::ofstream out(cropPath, std::ios::binary);
@@ -277,13 +289,13 @@ int main(int argc, char** argv) {
       std::printf("%7.2f %6d %9zu %8zu %8.4f %7.3f | %9s %9.4f %8s | %9zu %8.3f | %8zu %8.3f\n", bound, int(block),
                   mesh->triangleCount(), mesh->stats.dikeTriangles, mesh->maxErrorM(), seconds,
                   exact.reachable ? std::to_string(exact.triangles).c_str() : "none", exact.maxErrorM,
-                  exact.reachable ? std::to_string(exactRatio).substr(0, 5).c_str() : "-", samples.triangles, samplesRatio,
-                  delatin, delatinRatio);
+                  exact.reachable ? std::to_string(exactRatio).substr(0, 5).c_str() : "-", samples.triangles,
+                  samplesRatio, delatin, delatinRatio);
       std::string levels;
       for (std::size_t l = 0; l < mesh->stats.nodesPerLevel.size(); ++l)
-        levels += (l ? "," : "") + std::to_string(mesh->stats.nodesPerLevel[l]);
-      std::printf("        nodes per level %s; %zu pinned, %zu split, %zu rounds\n", levels.c_str(), mesh->stats.pinnedNodes,
-                  mesh->stats.splitNodes, mesh->stats.rounds);
+        levels += std::string(l ? "," : "") + std::to_string(mesh->stats.nodesPerLevel[l]);
+      std::printf("        nodes per level %s; %zu pinned, %zu split, %zu rounds\n", levels.c_str(),
+                  mesh->stats.pinnedNodes, mesh->stats.splitNodes, mesh->stats.rounds);
       report["rows"].push_back({{"bound_m", bound},
                                 {"block", int(block)},
                                 {"triangles", mesh->triangleCount()},
@@ -303,13 +315,15 @@ int main(int argc, char** argv) {
                                 {"ratio_to_delatin", delatinRatio}});
     }
   }
-  std::printf("\nmartini: strict by our exact measure (none: its full-detail mesh, m_exact, misses the bound);\n"
-              "m_samples: strict by the samples only, the packages' own measure, which ours always meets too\n");
+  std::printf(
+      "\nmartini: strict by our exact measure (none: its full-detail mesh, m_exact, misses the bound);\n"
+      "m_samples: strict by the samples only, the packages' own measure, which ours always meets too\n");
   std::printf("target: ours / strict Martini <= %.2f (exact where reachable, else samples): %s\n", kMartiniTarget,
               allMet ? "met" : "MISSED");
   if (defaultCrop)
-    std::printf("delatin: npm delatin 0.2.0 on this crop (mesh_reference.mjs), a reference figure, not run here; the\n"
-                "issue's figures for its crop: 331,466 / 190,465 / 98,733 at 2 / 5 / 10 m\n");
+    std::printf(
+        "delatin: npm delatin 0.2.0 on this crop (mesh_reference.mjs), a reference figure, not run here; the\n"
+        "issue's figures for its crop: 331,466 / 190,465 / 98,733 at 2 / 5 / 10 m\n");
   if (!jsonPath.empty()) {
     std::ofstream out(jsonPath);
     out << report.dump(2) << "\n";

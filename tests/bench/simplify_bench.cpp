@@ -487,8 +487,9 @@ int main(int argc, char** argv) {
       auto it = measured.find({&model, b, target});
       if (it == measured.end()) {
         const TriangleMesh level = extractAt(sequence(model, b), target);
-        it = measured.emplace(std::tuple{&model, b, target},
-                              Measured{level.triangleCount(), deviation(model, level, builderName(b))})
+        it = measured
+                 .emplace(std::tuple{&model, b, target},
+                          Measured{level.triangleCount(), deviation(model, level, builderName(b))})
                  .first;
       }
       return it->second;
@@ -514,8 +515,12 @@ int main(int argc, char** argv) {
         const bool ok = ratio <= kColourTarget;
         if (counts) colourMisses += !ok;
         std::printf("%-8s %-20s %7zu %10.4f | %-20s %7zu %10.4f | %7.3f %-5s | %7zu %10.4f\n", model.name.c_str(),
-                    builderName(aware), awareTriangles, da.colourRms, builderName(blind), blindTriangles,
-                    dc.colourRms, ratio, !counts ? "info" : ok ? "ok" : "MISS", reference.mesh.triangleCount(), dReference.colourRms);
+                    builderName(aware), awareTriangles, da.colourRms, builderName(blind), blindTriangles, dc.colourRms,
+                    ratio,
+                    !counts ? "info"
+                    : ok    ? "ok"
+                            : "MISS",
+                    reference.mesh.triangleCount(), dReference.colourRms);
         report["colour"].push_back({{"model", model.name},
                                     {"builder", builderKey(aware)},
                                     {"blind_builder", builderKey(blind)},
@@ -575,8 +580,8 @@ int main(int argc, char** argv) {
   const int speedWidth = 132;
   auto printSpeedHeader = [&]() {
     rule(speedWidth);
-    std::printf("%-8s %-20s %8s %8s %7s | %9s %9s %9s | %10s %9s %s\n", "model", "builder", "in_tris", "base",
-                "steps", "steps_ms", "total_ms", "M tri/s", "meshopt_ms", "mopt M/s", "check");
+    std::printf("%-8s %-20s %8s %8s %7s | %9s %9s %9s | %10s %9s %s\n", "model", "builder", "in_tris", "base", "steps",
+                "steps_ms", "total_ms", "M tri/s", "meshopt_ms", "mopt M/s", "check");
     rule(speedWidth);
   };
   auto timeSpeedCase = [&](const SpeedCase& sc, int caseRuns, const char* reportKey) {
@@ -610,23 +615,23 @@ int main(int argc, char** argv) {
       label = std::string(isCollapse(sc.builder) ? "collapse" : "cluster") +
               (sc.builder == Builder::CollapseGeometry ? " geo" : "") + " ->" + std::to_string(sc.stopAt);
     }
-    std::printf("%-8s %-20s %8zu %8u %7zu | %9.2f %9.2f %9.2f | %10.2f %9.2f %s%s\n", model.name.c_str(),
-                label.c_str(), model.mesh.triangleCount(), base, stepCount, steps * 1e3, total * 1e3, rate,
-                mo * 1e3, moRate, ok ? "ok" : "MISS",
+    std::printf("%-8s %-20s %8zu %8u %7zu | %9.2f %9.2f %9.2f | %10.2f %9.2f %s%s\n", model.name.c_str(), label.c_str(),
+                model.mesh.triangleCount(), base, stepCount, steps * 1e3, total * 1e3, rate, mo * 1e3, moRate,
+                ok ? "ok" : "MISS",
                 sc.stopAt ? (" (target < " + std::to_string(int(kBunny500Seconds * 1000)) + " ms)").c_str() : "");
     report[reportKey].push_back({{"model", model.name},
-                                  {"builder", builderKey(sc.builder)},
-                                  {"stop_at_triangles", sc.stopAt},
-                                  {"input_triangles", model.mesh.triangleCount()},
-                                  {"base_triangles", base},
-                                  {"steps", stepCount},
-                                  {"steps_ms", steps * 1e3},
-                                  {"total_ms", total * 1e3},
-                                  {"m_triangles_per_s", rate},
-                                  {"meshopt_ms", mo * 1e3},
-                                  {"meshopt_triangles", meshoptTriangles},
-                                  {"meshopt_m_triangles_per_s", moRate},
-                                  {"ok", ok}});
+                                 {"builder", builderKey(sc.builder)},
+                                 {"stop_at_triangles", sc.stopAt},
+                                 {"input_triangles", model.mesh.triangleCount()},
+                                 {"base_triangles", base},
+                                 {"steps", stepCount},
+                                 {"steps_ms", steps * 1e3},
+                                 {"total_ms", total * 1e3},
+                                 {"m_triangles_per_s", rate},
+                                 {"meshopt_ms", mo * 1e3},
+                                 {"meshopt_triangles", meshoptTriangles},
+                                 {"meshopt_m_triangles_per_s", moRate},
+                                 {"ok", ok}});
     return ok;
   };
 
@@ -651,7 +656,8 @@ int main(int argc, char** argv) {
   // ---------------------------------------------------------------- 4. level moves
   if (section("moves")) {
     std::printf(
-        "\n4. Level moves (the paper's Table 2): base (level 0) -> full -> base, setLevel(0, levels) then setLevel(0, 0);\n"
+        "\n4. Level moves (the paper's Table 2): base (level 0) -> full -> base, setLevel(0, levels) then setLevel(0, "
+        "0);\n"
         "   median over %d round trips; changed = triangles (corners) whose vertex changes, per level\n",
         trips);
     const int width4 = 132;

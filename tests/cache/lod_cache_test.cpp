@@ -322,8 +322,8 @@ TEST(LodCache, RandomPathsNeverExceedTau) {
   };
   for (const Case& c : {Case{3 * 33 + 1, 3 * 33 + 1, 0, false}, Case{2 * 33 + 20, 33 + 9, 0, false},
                         Case{4 * 33 + 1, 4 * 33 + 1, 1, false}, Case{3 * 33 + 1, 3 * 33 + 1, 0, true}}) {
-    const Terrain terrain = makeTerrain(
-        c.bumps ? bumpsField(c.width, c.height, 3u) : sinesField(c.width, c.height), c.level);
+    const Terrain terrain =
+        makeTerrain(c.bumps ? bumpsField(c.width, c.height, 3u) : sinesField(c.width, c.height), c.level);
     ASSERT_FALSE(terrain.lods.empty());
     const double extentX = terrain.field.extentX(), extentY = terrain.field.extentY();
     for (unsigned seed = 1; seed <= 4; ++seed) {
@@ -346,7 +346,7 @@ TEST(LodCache, RandomPathsNeverExceedTau) {
           k = kConstant * (0.5 + unit(rng));
         } else if (roll < 0.09) {
           nearM = std::array{0.0, 1.0, 20.0}[rng() % 3];
-        } else if (roll < 0.2) {  // a new heading and speed, from creeping to fast
+        } else if (roll < 0.2) {                                       // a new heading and speed, from creeping to fast
           const double speed = std::pow(10.0, unit(rng) * 3.0 - 1.0);  // 0.1 .. 100 m a frame
           velocity = glm::dvec3(unit(rng) - 0.5, unit(rng) - 0.5, 0.6 * (unit(rng) - 0.5));
           velocity *= speed / std::max(glm::length(velocity), 1e-9);
@@ -363,7 +363,7 @@ TEST(LodCache, RandomPathsNeverExceedTau) {
           reusedChecked += outcome == LodOutcome::Reused;
         }
       }
-      EXPECT_GT(reusedChecked, 100u);  // the bound was checked on many reused meshes ...
+      EXPECT_GT(reusedChecked, 100u);              // the bound was checked on many reused meshes ...
       EXPECT_GT(cache.counters().tooCoarse, 10u);  // ... and on rebuilt ones
       expectCountersAddUp(cache);
     }
@@ -587,14 +587,15 @@ TEST(LodCache, RandomChurnMatchesAnLruModel) {
       cache.acquireCount(terrain.nodes[b], terrain.lods[b], kTarget, &outcome);
       const auto it = std::find(model.begin(), model.end(), b);
       EXPECT_EQ(outcome, it != model.end() ? LodOutcome::Reused : LodOutcome::Built) << "step " << step;
-      if (it != model.end()) model.erase(it);
-      else if (model.size() == kCapacity) model.pop_back();
+      if (it != model.end())
+        model.erase(it);
+      else if (model.size() == kCapacity)
+        model.pop_back();
       model.insert(model.begin(), b);
     }
     ASSERT_EQ(cache.size(), model.size()) << "step " << step;
     for (std::size_t other = 0; other < terrain.lods.size(); ++other) {
-      ASSERT_EQ(cache.contains(terrain.nodes[other]),
-                std::find(model.begin(), model.end(), other) != model.end())
+      ASSERT_EQ(cache.contains(terrain.nodes[other]), std::find(model.begin(), model.end(), other) != model.end())
           << "step " << step << " block " << other;
     }
   }
@@ -656,7 +657,7 @@ TEST(LodCache, CountModeReusesWithinTheHysteresis) {
     lod.extractCount(target, fresh, scratch);
     EXPECT_TRUE(sameMesh(*cache.find(node), fresh)) << target;
   }
-  EXPECT_EQ(acquire(440).first, LodOutcome::Reused);         // within 10 % above
+  EXPECT_EQ(acquire(440).first, LodOutcome::Reused);          // within 10 % above
   EXPECT_EQ(acquire(441).first, LodOutcome::RebuiltChanged);  // past it
   EXPECT_EQ(acquire(441).first, LodOutcome::Reused);
   EXPECT_EQ(acquire(200).first, LodOutcome::RebuiltChanged);  // below the mesh's count

@@ -15,7 +15,7 @@ TEST(CameraPath, InterpolatesPositionAndTakesTheShorterArcForYaw) {
   EXPECT_NEAR(mid.position.x, 100.0, 1e-9);
   EXPECT_NEAR(std::remainder(mid.yawDeg, 360.0), 0.0, 1e-9);  // through north, not through south
   EXPECT_NEAR(mid.pitchDeg, 0.0, 1e-9);
-  EXPECT_NEAR(path->at(-5.0).position.x, 0.0, 1e-12);  // holds before the start
+  EXPECT_NEAR(path->at(-5.0).position.x, 0.0, 1e-12);   // holds before the start
   EXPECT_NEAR(path->at(9.0).position.x, 200.0, 1e-12);  // and after the end
 }
 

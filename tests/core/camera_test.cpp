@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include <glm/glm.hpp>
 #include <gtest/gtest.h>
+#include <glm/glm.hpp>
 
 namespace polder {
 namespace {

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <random>
 
-#include <glm/glm.hpp>
 #include <gtest/gtest.h>
+#include <glm/glm.hpp>
 
 namespace polder {
 namespace {
@@ -35,8 +35,9 @@ Camera randomCamera(std::mt19937_64& rng, double originScale) {
 Aabb randomBox(std::mt19937_64& rng, const Camera& camera) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double reach = 1.3 * camera.farM;
-  const glm::dvec3 centre = camera.position + glm::dvec3(reach * (2.0 * unit(rng) - 1.0), reach * (2.0 * unit(rng) - 1.0),
-                                                         reach * (2.0 * unit(rng) - 1.0));
+  const glm::dvec3 centre =
+      camera.position +
+      glm::dvec3(reach * (2.0 * unit(rng) - 1.0), reach * (2.0 * unit(rng) - 1.0), reach * (2.0 * unit(rng) - 1.0));
   const double size = std::pow(10.0, -1.0 + 4.0 * unit(rng));
   const glm::dvec3 half = 0.5 * size * glm::dvec3(unit(rng), unit(rng), unit(rng));
   return Aabb{centre - half, centre + half};
@@ -129,12 +130,12 @@ TEST(Frustum, CullsObviousCases) {
     return Aabb{camera.position + offset - half, camera.position + offset + half};
   };
   EXPECT_EQ(frustum.classify(boxAt({100.0, 0.0, 0.0}, 1.0)), FrustumTest::Inside);
-  EXPECT_EQ(frustum.classify(boxAt({-100.0, 0.0, 0.0}, 1.0)), FrustumTest::Outside);   // behind
-  EXPECT_EQ(frustum.classify(boxAt({0.5, 0.0, 0.0}, 0.2)), FrustumTest::Outside);      // before near
-  EXPECT_EQ(frustum.classify(boxAt({1100.0, 0.0, 0.0}, 50.0)), FrustumTest::Outside);  // beyond far
-  EXPECT_EQ(frustum.classify(boxAt({100.0, 0.0, 500.0}, 1.0)), FrustumTest::Outside);  // far above
-  EXPECT_EQ(frustum.classify(boxAt({100.0, 500.0, 0.0}, 1.0)), FrustumTest::Outside);  // far north = left
-  EXPECT_EQ(frustum.classify(boxAt({0.0, 0.0, 0.0}, 10.0)), FrustumTest::Intersecting);  // around the eye
+  EXPECT_EQ(frustum.classify(boxAt({-100.0, 0.0, 0.0}, 1.0)), FrustumTest::Outside);        // behind
+  EXPECT_EQ(frustum.classify(boxAt({0.5, 0.0, 0.0}, 0.2)), FrustumTest::Outside);           // before near
+  EXPECT_EQ(frustum.classify(boxAt({1100.0, 0.0, 0.0}, 50.0)), FrustumTest::Outside);       // beyond far
+  EXPECT_EQ(frustum.classify(boxAt({100.0, 0.0, 500.0}, 1.0)), FrustumTest::Outside);       // far above
+  EXPECT_EQ(frustum.classify(boxAt({100.0, 500.0, 0.0}, 1.0)), FrustumTest::Outside);       // far north = left
+  EXPECT_EQ(frustum.classify(boxAt({0.0, 0.0, 0.0}, 10.0)), FrustumTest::Intersecting);     // around the eye
   EXPECT_EQ(frustum.classify(boxAt({1000.0, 0.0, 0.0}, 10.0)), FrustumTest::Intersecting);  // across far
   // Beside the frustum's top-left edge and across its far plane: no single plane separates
   // it (pass 1 alone says Intersecting), the frustum's corners do.

@@ -9,9 +9,9 @@
 #include <random>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
-#include <gtest/gtest.h>
 
 namespace polder::lod {
 namespace {
@@ -38,9 +38,8 @@ double cross(const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
 // Area of the convex hull of points (Andrew's monotone chain; written apart from the
 // engine's own so the two do not share a bug).
 double hullArea(std::vector<glm::dvec2> points) {
-  std::sort(points.begin(), points.end(), [](const glm::dvec2& a, const glm::dvec2& b) {
-    return a.x < b.x || (a.x == b.x && a.y < b.y);
-  });
+  std::sort(points.begin(), points.end(),
+            [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
   std::vector<glm::dvec2> hull(2 * points.size());
   std::size_t k = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -103,8 +102,8 @@ TEST(ProjectedArea, MatchesHullOfProjectedCornersForRandomBoxes) {
     const Camera camera = randomCamera(rng);
     const double distance = camera.nearM + 3000.0 * unit(rng) * unit(rng);
     OrientedBox box;
-    box.centre = camera.position + camera.forward() * distance +
-                 camera.right() * (distance * (2.0 * unit(rng) - 1.0)) + camera.up() * (distance * (unit(rng) - 0.5));
+    box.centre = camera.position + camera.forward() * distance + camera.right() * (distance * (2.0 * unit(rng) - 1.0)) +
+                 camera.up() * (distance * (unit(rng) - 0.5));
     box.axes = randomRotation(rng);
     box.halfExtents = {distance * unit(rng), distance * unit(rng), distance * 0.2 * unit(rng)};
     double expected = 0.0;

@@ -1,19 +1,19 @@
 // Runs the real polder program: what a user sees, exit codes included.
+#include <sys/wait.h>
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <filesystem>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <iterator>
 #include <limits>
-#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -65,7 +65,8 @@ TEST_F(PolderProgram, InfoJsonHasTheDocumentedKeysAndTheGeneratedSize) {
   const ProgramRun run = runPolder("info " + dem() + " --json");
   ASSERT_EQ(run.exitCode, 0) << run.output;
   const auto json = nlohmann::json::parse(run.output);
-  for (const char* key : {"width", "height", "spacing_m", "min_m", "max_m", "voids", "format", "encoding", "spacing_assumed"})
+  for (const char* key :
+       {"width", "height", "spacing_m", "min_m", "max_m", "voids", "format", "encoding", "spacing_assumed"})
     EXPECT_TRUE(json.contains(key)) << key;
   EXPECT_EQ(json["width"], 129);
   EXPECT_EQ(json["height"], 129);
@@ -80,7 +81,7 @@ TEST_F(PolderProgram, QueryAtAGridPointPrintsThatSampleHeight) {
   ASSERT_TRUE(read.ok()) << read.error().message;
   const auto& field = read->field;
   const ProgramRun run = runPolder("query " + dem() + " --at " + std::to_string(10 * field.spacingX) + "," +
-                            std::to_string(20 * field.spacingY));
+                                   std::to_string(20 * field.spacingY));
   ASSERT_EQ(run.exitCode, 0) << run.output;
   EXPECT_NEAR(std::stod(run.output), field.at(10, 20), 1e-3);
 }
@@ -111,14 +112,17 @@ TEST_F(PolderProgram, RenderWritesAPngOfTheRequestedSize) {
   unsigned char header[24] = {};
   ASSERT_TRUE(png.read(reinterpret_cast<char*>(header), sizeof header));
   EXPECT_EQ(std::string(reinterpret_cast<char*>(header) + 12, 4), "IHDR");
-  const auto bigEndian = [&](int at) { return (header[at] << 24) | (header[at + 1] << 16) | (header[at + 2] << 8) | header[at + 3]; };
+  const auto bigEndian = [&](int at) {
+    return (header[at] << 24) | (header[at + 1] << 16) | (header[at + 2] << 8) | header[at + 3];
+  };
   EXPECT_EQ(bigEndian(16), 160);
   EXPECT_EQ(bigEndian(20), 120);
 }
 
 TEST_F(PolderProgram, HeadlessFlyoverWritesEveryFrame) {
   const std::string out = s_dir->file("flight").string();
-  const ProgramRun run = runPolder("flyover " + dem() + " --headless --frames 3 --size 96x64 --altitude 200 --out " + out);
+  const ProgramRun run =
+      runPolder("flyover " + dem() + " --headless --frames 3 --size 96x64 --altitude 200 --out " + out);
   ASSERT_EQ(run.exitCode, 0) << run.output;
   for (const char* frame : {"frame_0000.png", "frame_0001.png", "frame_0002.png"})
     EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(out) / frame)) << frame;
@@ -169,23 +173,26 @@ TEST_F(PolderProgram, BadInputGetsAClearMessageAndExitCode) {
   for (const auto& c : cases) {
     const ProgramRun run = runPolder(c.arguments);
     EXPECT_EQ(run.exitCode, c.exitCode) << c.name << ": " << run.output;
-    EXPECT_NE(run.output.find(c.mentions), std::string::npos) << c.name << " should mention '" << c.mentions
-                                                              << "': " << run.output;
+    EXPECT_NE(run.output.find(c.mentions), std::string::npos)
+        << c.name << " should mention '" << c.mentions << "': " << run.output;
     EXPECT_EQ(run.output.find("terminate called"), std::string::npos) << c.name;
   }
 }
 
 TEST_F(PolderProgram, BenchWritesTheDocumentedReport) {
   const std::string json = s_dir->file("bench.json").string();
-  const ProgramRun run = runPolder("bench " + dem() +
-                                   " --frames 40 --measure-every 10 --size 160x120 --compare-cache --altitude 300 --json " + json);
+  const ProgramRun run =
+      runPolder("bench " + dem() +
+                " --frames 40 --measure-every 10 --size 160x120 --compare-cache --altitude 300 --json " + json);
   // Exit 1 would mean a measured frame broke tau or watertightness: the report still comes.
   ASSERT_TRUE(run.exitCode == 0 || run.exitCode == 1) << run.output;
   std::ifstream in(json);
   const auto report = nlohmann::json::parse(in);
   const std::map<std::string, std::vector<std::string>> keys = {
       {"dem", {"path", "width", "height", "spacing_m", "min_m", "max_m"}},
-      {"config", {"tau_px", "width_px", "height_px", "fov_deg", "block_samples", "mode", "budget_tris", "cache", "frames", "path"}},
+      {"config",
+       {"tau_px", "width_px", "height_px", "fov_deg", "block_samples", "mode", "budget_tris", "cache", "frames",
+        "path"}},
       {"triangles", {"mean", "max", "full_res", "dikes_mean"}},
       {"blocks", {"visible_mean", "culled_mean"}},
       {"lod_cache", {"reuse_rate", "rebuilds", "lookups"}},
@@ -212,9 +219,14 @@ TEST_F(PolderProgram, BenchWritesTheDocumentedReport) {
 
 TEST_F(PolderProgram, BenchRejectsBadArguments) {
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"--tau 0", "--tau"},        {"--mode fast", "--mode"},          {"--block 30", "--block"},
-      {"--render vulkan", "--render"}, {"--preset seed999", "--preset"}, {"--path /nonexistent/path.txt", "/nonexistent/path.txt"},
-      {"--frames 0", "--frames"},  {"--mode budget --budget 5", "--budget"},
+      {"--tau 0", "--tau"},
+      {"--mode fast", "--mode"},
+      {"--block 30", "--block"},
+      {"--render vulkan", "--render"},
+      {"--preset seed999", "--preset"},
+      {"--path /nonexistent/path.txt", "/nonexistent/path.txt"},
+      {"--frames 0", "--frames"},
+      {"--mode budget --budget 5", "--budget"},
   };
   for (const auto& [arguments, mentions] : cases) {
     const ProgramRun run = runPolder("bench " + dem() + " " + arguments);
@@ -238,9 +250,14 @@ std::string writeSphereObj(const ScratchDir& dir, bool uvSeam = false) {
       const double theta = pi * r / rings, phi = 2 * pi * s / segments;
       const double radius = 1.0 + 0.05 * std::sin(5 * phi) * std::sin(3 * theta);
       obj << "v " << radius * std::sin(theta) * std::cos(phi) << " " << radius * std::sin(theta) * std::sin(phi) << " "
-          << radius * std::cos(theta) << (uvSeam ? "" : r < rings / 3 ? " 1 0 0" : " 0 0 1") << "\n";
+          << radius * std::cos(theta)
+          << (uvSeam          ? ""
+              : r < rings / 3 ? " 1 0 0"
+                              : " 0 0 1")
+          << "\n";
     }
-    for (int s = 0; uvSeam && s <= segments; ++s) obj << "vt " << double(s) / segments << " " << 1.0 - double(r) / rings << "\n";
+    for (int s = 0; uvSeam && s <= segments; ++s)
+      obj << "vt " << double(s) / segments << " " << 1.0 - double(r) / rings << "\n";
   }
   obj << (uvSeam ? "v 0 0 -1\nvt 0.5 0\n" : "v 0 0 -1 0 0 1\n");
   // "v" or "v/vt" of ring r (1 ... rings - 1), segment s (0 ... segments).
@@ -251,7 +268,8 @@ std::string writeSphereObj(const ScratchDir& dir, bool uvSeam = false) {
   const std::string south = std::to_string(2 + (rings - 1) * segments);
   const std::string northCorner = uvSeam ? "1/1" : "1";
   const std::string southCorner = uvSeam ? south + "/" + std::to_string(2 + (rings - 1) * (segments + 1)) : south;
-  for (int s = 0; s < segments; ++s) obj << "f " << northCorner << " " << corner(1, s) << " " << corner(1, s + 1) << "\n";
+  for (int s = 0; s < segments; ++s)
+    obj << "f " << northCorner << " " << corner(1, s) << " " << corner(1, s + 1) << "\n";
   for (int r = 1; r + 1 < rings; ++r)
     for (int s = 0; s < segments; ++s) {
       obj << "f " << corner(r, s) << " " << corner(r + 1, s) << " " << corner(r + 1, s + 1) << "\n";
@@ -314,16 +332,18 @@ TEST(PolderSimplify, KeepsTextureSeamsClosedUnlessAskedToWeldThem) {
   const std::string input = writeSphereObj(dir, /*uvSeam=*/true);
   for (const std::string weld : {"", " --weld-uv-seams"}) {
     const std::string out = dir.file("seamed-out.obj").string(), json = dir.file("seamed.json").string();
-    const ProgramRun run = runPolder("simplify " + input + " --triangles 300 --samples 20000 --out " + out +
-                                     " --json " + json + weld);
+    const ProgramRun run =
+        runPolder("simplify " + input + " --triangles 300 --samples 20000 --out " + out + " --json " + json + weld);
     ASSERT_EQ(run.exitCode, 0) << run.output;
     std::ifstream in(json);
     const auto report = nlohmann::json::parse(in);
     EXPECT_EQ(report["open_edges_added"], 0) << weld;
     EXPECT_LE(report["output_triangles"].get<int>(), 300) << weld;
     EXPECT_LT(report["hausdorff"].get<double>(), 0.1) << weld;
-    if (weld.empty()) EXPECT_GT(splitPositions(out), 4u) << "the seam keeps both sides' coordinates";
-    else EXPECT_EQ(splitPositions(out), 0u);
+    if (weld.empty())
+      EXPECT_GT(splitPositions(out), 4u) << "the seam keeps both sides' coordinates";
+    else
+      EXPECT_EQ(splitPositions(out), 0u);
   }
 }
 
@@ -353,8 +373,10 @@ TEST_F(PolderProgram, SceneRendersFramesAndBenchReportsObjectsAndTheAllocator) {
   const std::string sphere = writeSphereObj(dir);
   const std::string sceneFile = dir.file("scene.json").string();
   std::ofstream(sceneFile) << R"({
-    "terrain": { "dem": ")" << dem() << R"(" },
-    "models": { "ball": { "file": ")" << sphere << R"(", "regions": 4 } },
+    "terrain": { "dem": ")" << dem()
+                           << R"(" },
+    "models": { "ball": { "file": ")"
+                           << sphere << R"(", "regions": 4 } },
     "nodes": [ { "name": "balls", "model": "ball", "translate": [0, 0, 900], "scale": 60,
                  "animation": { "type": "orbit", "centre": [1600, 1600], "radius": 500, "period_s": 5 },
                  "repeat": { "count": 12, "phase_step_deg": 30 } } ],
@@ -387,8 +409,10 @@ TEST_F(PolderProgram, SceneRendersFramesAndBenchReportsObjectsAndTheAllocator) {
   const std::string saved = sanitizerOptions ? sanitizerOptions : "";
   ::setenv("ASAN_OPTIONS", (saved.empty() ? std::string("detect_leaks=0") : saved + ":detect_leaks=0").c_str(), 1);
   run = runPolder("scene " + sceneFile + " --window --frames 5");
-  if (sanitizerOptions) ::setenv("ASAN_OPTIONS", saved.c_str(), 1);
-  else ::unsetenv("ASAN_OPTIONS");
+  if (sanitizerOptions)
+    ::setenv("ASAN_OPTIONS", saved.c_str(), 1);
+  else
+    ::unsetenv("ASAN_OPTIONS");
   EXPECT_EQ(run.exitCode, 0) << run.output;
 }
 
@@ -463,8 +487,8 @@ TEST_F(PolderProgram, MeshWritesEveryFormatWithinTheBoundAndReportsIt) {
     ASSERT_EQ(run.exitCode, 0) << run.output;
     std::ifstream in(json);
     const auto report = nlohmann::json::parse(in);
-    for (const char* key : {"triangles", "block_triangles", "dike_triangles", "max_error_m", "max_error_bound_m", "watertight",
-                            "build_s", "total_s", "nodes_per_level", "full_resolution_triangles"})
+    for (const char* key : {"triangles", "block_triangles", "dike_triangles", "max_error_m", "max_error_bound_m",
+                            "watertight", "build_s", "total_s", "nodes_per_level", "full_resolution_triangles"})
       EXPECT_TRUE(report.contains(key)) << key;
     EXPECT_LE(report["max_error_m"].get<double>(), bound);
     EXPECT_GT(report["max_error_m"].get<double>(), 0.0);
@@ -553,7 +577,8 @@ TEST_F(PolderProgram, MeshBadInputGetsAClearMessageExitCodeAndNoFile) {
   for (const auto& c : cases) {
     const ProgramRun run = runPolder("mesh " + dem() + " " + c.arguments);
     EXPECT_EQ(run.exitCode, c.exitCode) << c.name << ": " << run.output;
-    EXPECT_NE(run.output.find(c.mentions), std::string::npos) << c.name << " should mention '" << c.mentions << "': " << run.output;
+    EXPECT_NE(run.output.find(c.mentions), std::string::npos)
+        << c.name << " should mention '" << c.mentions << "': " << run.output;
     EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << c.name << ": one line: " << run.output;
   }
   const ProgramRun noBound = runPolder("mesh " + dem() + " --out " + out);

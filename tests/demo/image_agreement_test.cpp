@@ -84,10 +84,10 @@ TEST_F(ImageAgreement, OpenGlAndRayCastMasksAgreeOnSeveralViews) {
   };
   const double cx = 0.5 * field.extentX(), cy = 0.5 * field.extentY();
   const std::vector<View> views = {
-      {{cx, -2000.0, high + 800.0}, 0.0, -12.0},        // from the south, horizon in view
-      {{cx, cy, high + 3000.0}, 30.0, -70.0},           // steeply down
-      {{-1500.0, -1500.0, high + 400.0}, 45.0, -8.0},   // grazing, from the south-west corner
-      {{cx, cy, double(high) + 150.0}, 200.0, -20.0},   // low, inside the terrain
+      {{cx, -2000.0, high + 800.0}, 0.0, -12.0},       // from the south, horizon in view
+      {{cx, cy, high + 3000.0}, 30.0, -70.0},          // steeply down
+      {{-1500.0, -1500.0, high + 400.0}, 45.0, -8.0},  // grazing, from the south-west corner
+      {{cx, cy, double(high) + 150.0}, 200.0, -20.0},  // low, inside the terrain
   };
   for (const View& view : views) {
     Camera camera;

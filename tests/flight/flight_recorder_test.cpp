@@ -22,8 +22,8 @@ Camera smallLens() {
 
 // Two seconds across the terrain, looking ahead and down.
 CameraPath crossing() {
-  auto path = CameraPath::fromPoses({CameraPose{0.0, {1000.0, 500.0, 2500.0}, 20.0, -30.0},
-                                     CameraPose{2.0, {6000.0, 4000.0, 2000.0}, 60.0, -25.0}});
+  auto path = CameraPath::fromPoses(
+      {CameraPose{0.0, {1000.0, 500.0, 2500.0}, 20.0, -30.0}, CameraPose{2.0, {6000.0, 4000.0, 2000.0}, 60.0, -25.0}});
   EXPECT_TRUE(path.ok());
   return *path;
 }
@@ -61,10 +61,9 @@ TEST_F(FlightRecorderTest, RecordsEveryFrameAsTheEngineReportedIt) {
 
   ASSERT_EQ(record->frames, 45);
   ASSERT_EQ(seen.size(), 45u);
-  for (const std::vector<double>* series : {&record->selectMs, &record->lodMs, &record->dikesMs, &record->piecesMs,
-                                            &record->totalMs, &record->triangles, &record->dikeTriangles,
-                                            &record->visibleBlocks, &record->culledBlocks, &record->renderMs,
-                                            &record->uploadBytes})
+  for (const std::vector<double>* series :
+       {&record->selectMs, &record->lodMs, &record->dikesMs, &record->piecesMs, &record->totalMs, &record->triangles,
+        &record->dikeTriangles, &record->visibleBlocks, &record->culledBlocks, &record->renderMs, &record->uploadBytes})
     EXPECT_EQ(series->size(), 45u);
   std::uint64_t lookups = 0, hits = 0, rebuilds = 0, created = 0, retired = 0;
   double bytes = 0.0;

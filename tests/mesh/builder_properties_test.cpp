@@ -324,8 +324,9 @@ TEST_P(BuilderProperties, APinchOrAFlippedTriangleKeepsItsVertices) {
 
 INSTANTIATE_TEST_SUITE_P(
     Builders, BuilderProperties,
-    ::testing::Values(Builder{"collapse", [](const TriangleMesh& m, const RegionPartition& p) { return buildCollapseSteps(m, p); }},
-                      Builder{"cluster", [](const TriangleMesh& m, const RegionPartition& p) { return buildClusterSteps(m, p); }}),
+    ::testing::Values(
+        Builder{"collapse", [](const TriangleMesh& m, const RegionPartition& p) { return buildCollapseSteps(m, p); }},
+        Builder{"cluster", [](const TriangleMesh& m, const RegionPartition& p) { return buildClusterSteps(m, p); }}),
     [](const ::testing::TestParamInfo<Builder>& info) { return info.param.name; });
 
 }  // namespace

@@ -61,7 +61,9 @@ TriangleMesh subdividedBox(std::uint32_t n) {
   std::map<std::array<std::uint32_t, 3>, std::uint32_t> vertexAt;
   auto vertex = [&](std::array<std::uint32_t, 3> lattice) {
     auto [it, inserted] = vertexAt.try_emplace(lattice, static_cast<std::uint32_t>(box.positions.size()));
-    if (inserted) box.positions.emplace_back(float(lattice[0]) / float(n), float(lattice[1]) / float(n), float(lattice[2]) / float(n));
+    if (inserted)
+      box.positions.emplace_back(float(lattice[0]) / float(n), float(lattice[1]) / float(n),
+                                 float(lattice[2]) / float(n));
     return it->second;
   };
   for (int axis = 0; axis < 3; ++axis)
@@ -78,8 +80,10 @@ TriangleMesh subdividedBox(std::uint32_t n) {
           };
           const std::uint32_t a = at(0, 0), b = at(1, 0), c = at(0, 1), d = at(1, 1);
           // Counter-clockwise seen from outside: u x v points along +axis.
-          if (side == 1) box.indices.insert(box.indices.end(), {a, b, d, a, d, c});
-          else box.indices.insert(box.indices.end(), {a, d, b, a, c, d});
+          if (side == 1)
+            box.indices.insert(box.indices.end(), {a, b, d, a, d, c});
+          else
+            box.indices.insert(box.indices.end(), {a, d, b, a, c, d});
         }
     }
   return box;
@@ -163,7 +167,8 @@ TEST(ClusterBuilder, ACreaseStaysSharpAndStraightDownToTheBase) {
     base.setLevel(0, 0);
     const auto idx = base.indices(0);
     double area = 0.0;
-    for (std::size_t t = 0; t < idx.size(); t += 3) area += 0.5 * glm::length(triangleNormal(m.vertices().positions, idx, t));
+    for (std::size_t t = 0; t < idx.size(); t += 3)
+      area += 0.5 * glm::length(triangleNormal(m.vertices().positions, idx, t));
     return area;
   };
   EXPECT_NEAR(baseArea(pm), std::sqrt(2.0), 1e-5);
@@ -178,8 +183,8 @@ TEST(ClusterBuilder, BoxCornersStayAndNoTriangleLeavesItsFace) {
   const RegionSequence& seq = pm.region(0);
   const auto& p = pm.vertices().positions;
   ProgressiveMeshInstance instance(pm);
-  for (std::uint32_t level : {0u, seq.levelForTriangles(static_cast<std::uint32_t>(box.triangleCount() / 10)),
-                              seq.levelCount() / 2}) {
+  for (std::uint32_t level :
+       {0u, seq.levelForTriangles(static_cast<std::uint32_t>(box.triangleCount() / 10)), seq.levelCount() / 2}) {
     instance.setLevel(0, level);
     const auto idx = instance.indices(0);
     EXPECT_EQ(openEdgeCount(std::vector<std::uint32_t>(idx.begin(), idx.end())), 0u) << "level " << level;
@@ -220,7 +225,8 @@ TEST(ClusterBuilder, ColoursKeepAColourBorder) {
   // strip of triangles along the border at the current resolution.)
   const std::uint32_t n = 24;
   TriangleMesh grid = test::bumpyGrid(n, 0.0f);
-  for (const glm::vec3& p : grid.positions) grid.colours.push_back(p.x < 0.49f ? glm::vec4(1, 0, 0, 1) : glm::vec4(0, 0, 1, 1));
+  for (const glm::vec3& p : grid.positions)
+    grid.colours.push_back(p.x < 0.49f ? glm::vec4(1, 0, 0, 1) : glm::vec4(0, 0, 1, 1));
   const std::uint32_t target = static_cast<std::uint32_t>(grid.triangleCount() / 10);
   struct Mixing {
     int triangles = 0, mixed = 0, mixedOffTheBorder = 0;
@@ -255,7 +261,7 @@ TEST(ClusterBuilder, ColoursKeepAColourBorder) {
   EXPECT_NEAR(with.mixedArea, 1.0 / n, 1e-5) << "the strip between the border columns, no more";
   EXPECT_GT(without.mixedOffTheBorder, 0);
   EXPECT_LT(2.0 * with.mixedArea, without.mixedArea) << "with colours " << with.mixed << " mixed of " << with.triangles
-                                                      << ", blind " << without.mixed << " of " << without.triangles;
+                                                     << ", blind " << without.mixed << " of " << without.triangles;
 }
 
 TEST(ClusterBuilder, StopsAtTheRequestedTriangleCount) {

@@ -15,7 +15,8 @@ inline mesh::TriangleMesh bumpyGrid(std::uint32_t n, float amplitude = 0.1f) {
   for (std::uint32_t j = 0; j <= n; ++j)
     for (std::uint32_t i = 0; i <= n; ++i) {
       const float x = float(i) / float(n), y = float(j) / float(n);
-      m.positions.emplace_back(x, y, amplitude * (std::sin(7.0f * x) * std::cos(5.0f * y) + 0.3f * std::sin(23.0f * x * y)));
+      m.positions.emplace_back(x, y,
+                               amplitude * (std::sin(7.0f * x) * std::cos(5.0f * y) + 0.3f * std::sin(23.0f * x * y)));
     }
   for (std::uint32_t j = 0; j < n; ++j)
     for (std::uint32_t i = 0; i < n; ++i) {
@@ -42,10 +43,12 @@ inline mesh::TriangleMesh bumpySphere(std::uint32_t rings, std::uint32_t segment
   m.positions.emplace_back(0.0f, 0.0f, -1.0f);
   const std::uint32_t south = static_cast<std::uint32_t>(m.positions.size() - 1);
   auto ringVertex = [&](std::uint32_t r, std::uint32_t s) { return 1 + (r - 1) * segments + s % segments; };
-  for (std::uint32_t s = 0; s < segments; ++s) m.indices.insert(m.indices.end(), {0u, ringVertex(1, s), ringVertex(1, s + 1)});
+  for (std::uint32_t s = 0; s < segments; ++s)
+    m.indices.insert(m.indices.end(), {0u, ringVertex(1, s), ringVertex(1, s + 1)});
   for (std::uint32_t r = 1; r + 1 < rings; ++r)
     for (std::uint32_t s = 0; s < segments; ++s) {
-      const std::uint32_t a = ringVertex(r, s), b = ringVertex(r, s + 1), c = ringVertex(r + 1, s), d = ringVertex(r + 1, s + 1);
+      const std::uint32_t a = ringVertex(r, s), b = ringVertex(r, s + 1), c = ringVertex(r + 1, s),
+                          d = ringVertex(r + 1, s + 1);
       m.indices.insert(m.indices.end(), {a, c, d, a, d, b});
     }
   for (std::uint32_t s = 0; s < segments; ++s)

@@ -61,8 +61,10 @@ TEST(ProgressiveMeshBuild, EqualsTheStepsAssembledAfterwards) {
       EXPECT_GT(pipelined->stepCount(), minSteps);
       expectSameSequence(*pipelined, *afterwards);
     };
-    compare(CollapseOptions{}, [](auto&&... a) { return buildCollapseSteps(a...); }, 1000u);
-    compare(ClusterOptions{}, [](auto&&... a) { return buildClusterSteps(a...); }, 500u);
+    compare(
+        CollapseOptions{}, [](auto&&... a) { return buildCollapseSteps(a...); }, 1000u);
+    compare(
+        ClusterOptions{}, [](auto&&... a) { return buildClusterSteps(a...); }, 500u);
   }
 }
 

@@ -113,8 +113,8 @@ TEST(Regions, StepsNeverJoinTwoRegionsAndBordersFollowTheNeighbour) {
       ASSERT_LE(count, 2);
       if (count == 1) {
         const glm::vec3 a = p[edge.first], b = p[edge.second];
-        const bool sameSide = (a.x == 0 && b.x == 0) || (a.y == 0 && b.y == 0) || (a.x == 1 && b.x == 1) ||
-                              (a.y == 1 && b.y == 1);
+        const bool sameSide =
+            (a.x == 0 && b.x == 0) || (a.y == 0 && b.y == 0) || (a.x == 1 && b.x == 1) || (a.y == 1 && b.y == 1);
         ASSERT_TRUE(sameSide) << "trial " << trial << ": an open edge inside the grid";
       }
     }

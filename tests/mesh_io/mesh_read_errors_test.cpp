@@ -36,8 +36,8 @@ void expectReadError(const std::filesystem::path& file, ErrorKind kind, const st
 
 PlyContent twoTriangles() {
   PlyContent content;
-  content.vertexProperties = {{"float", "x"}, {"float", "y"}, {"float", "z"}, {"uchar", "red"}, {"uchar", "green"},
-                              {"uchar", "blue"}};
+  content.vertexProperties = {{"float", "x"},   {"float", "y"},     {"float", "z"},
+                              {"uchar", "red"}, {"uchar", "green"}, {"uchar", "blue"}};
   content.vertices = {{0, 0, 0, 1, 2, 3}, {1, 0, 0, 4, 5, 6}, {1, 1, 0, 7, 8, 9}, {0, 1, 0, 10, 11, 12}};
   content.faces = {{0, 1, 2}, {0, 2, 3}, {2, 1, 3}};
   return content;

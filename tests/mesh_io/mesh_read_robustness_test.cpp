@@ -21,9 +21,9 @@ using test::ScratchDir;
 
 PlyContent polygons() {
   PlyContent content;
-  content.vertexProperties = {{"float", "x"},   {"float", "y"},    {"float", "z"},    {"uchar", "red"},
+  content.vertexProperties = {{"float", "x"},     {"float", "y"},    {"float", "z"}, {"uchar", "red"},
                               {"uchar", "green"}, {"uchar", "blue"}, {"float", "s"}, {"float", "t"}};
-  content.vertices = {{0, 0, 0, 1, 2, 3, 0, 0},    {1, 0, 0, 4, 5, 6, 1, 0},     {1, 1, 0, 7, 8, 9, 1, 1},
+  content.vertices = {{0, 0, 0, 1, 2, 3, 0, 0},    {1, 0, 0, 4, 5, 6, 1, 0},      {1, 1, 0, 7, 8, 9, 1, 1},
                       {0, 1, 0, 10, 11, 12, 0, 1}, {2, 0, 0.5, 13, 14, 15, 0, 0}, {2, 1, 0.5, 16, 17, 18, 1, 1}};
   // A triangle, a quad, a pentagon, and faces of 0, 1 and 2 corners (dropped).
   content.faces = {{0, 1, 2}, {1, 4, 5, 2}, {0, 1, 4, 5, 3}, {}, {3}, {0, 3}};

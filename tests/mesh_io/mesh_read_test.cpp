@@ -29,7 +29,7 @@ using test::readMeshOk;
 // unreferenced fifth vertex: uchar colours and texture coordinates named u/v or s/t.
 PlyContent squareWithUcharColours(const std::string& uName, const std::string& vName) {
   PlyContent content;
-  content.vertexProperties = {{"float", "x"},    {"float", "y"},    {"float", "z"},  {"uchar", "red"},
+  content.vertexProperties = {{"float", "x"},     {"float", "y"},    {"float", "z"},   {"uchar", "red"},
                               {"uchar", "green"}, {"uchar", "blue"}, {"float", uName}, {"float", vName}};
   content.vertices = {{0.0, 0.0, 0.5, 255, 0, 0, 0.0, 0.0},
                       {1.5, 0.0, 0.5, 0, 255, 0, 1.0, 0.0},
@@ -88,9 +88,9 @@ TEST(ReadPly, TextureCoordinateNames) {
 
 TEST(ReadPly, FloatColoursWithAlphaAndNormals) {
   PlyContent content;
-  content.vertexProperties = {{"float", "x"},   {"float", "y"},     {"float", "z"},    {"float", "nx"},
-                              {"float", "ny"},  {"float", "nz"},    {"float", "red"},  {"float", "green"},
-                              {"float", "blue"}, {"float", "alpha"}, {"float", "s"},    {"float", "t"}};
+  content.vertexProperties = {{"float", "x"},    {"float", "y"},     {"float", "z"},   {"float", "nx"},
+                              {"float", "ny"},   {"float", "nz"},    {"float", "red"}, {"float", "green"},
+                              {"float", "blue"}, {"float", "alpha"}, {"float", "s"},   {"float", "t"}};
   content.vertices = {{0, 0, 0, 0, 0, 1, 0.25, 0.5, 0.75, 0.125, 0.5, 0.5},
                       {1, 0, 0, 0, 0, 1, 0.1, 0.2, 0.3, 0.4, 0.75, 0.5},
                       {1, 1, 0, 0, 0, 1, 1, 1, 1, 1, 0.75, 0.625},
@@ -116,10 +116,10 @@ TEST(ReadPly, FloatColoursWithAlphaAndNormals) {
 TEST(ReadPly, OtherTypesAndQuads) {
   // double positions, ushort colours, uint8/int32 lists as the Stanford files spell them.
   PlyContent content;
-  content.vertexProperties = {{"double", "x"}, {"double", "y"}, {"double", "z"},
+  content.vertexProperties = {{"double", "x"},   {"double", "y"},     {"double", "z"},
                               {"ushort", "red"}, {"ushort", "green"}, {"ushort", "blue"}};
-  content.vertices = {{0, 0, 0, 65535, 0, 0}, {2, 0, 0, 0, 65535, 0}, {2, 2, 0, 0, 0, 65535},
-                      {0, 2, 0, 65535, 65535, 65535}, {4, 0, 0, 0, 0, 0}, {4, 2, 0, 0, 0, 0}};
+  content.vertices = {{0, 0, 0, 65535, 0, 0},         {2, 0, 0, 0, 65535, 0}, {2, 2, 0, 0, 0, 65535},
+                      {0, 2, 0, 65535, 65535, 65535}, {4, 0, 0, 0, 0, 0},     {4, 2, 0, 0, 0, 0}};
   content.faces = {{0, 1, 2, 3}, {1, 4, 5, 2}};
   content.countType = "uint8";
   content.indexType = "int32";
@@ -227,7 +227,8 @@ TEST(ReadObj, IndentedLinesCommentsAndContinuations) {
   // Assimp alone would skip the indented face and fail on the comment.
   ScratchDir dir;
   const auto file = dir.file("layout.obj");
-  test::writeFile(file, "v 0 0 0\r\n  v 1 0 0\r\n\tv 1 1 \\\r\n 0\r\nv 0 1 0 # corner\r\nf 1 2 3 # first\r\n   f 1 3 4\r\n");
+  test::writeFile(file,
+                  "v 0 0 0\r\n  v 1 0 0\r\n\tv 1 1 \\\r\n 0\r\nv 0 1 0 # corner\r\nf 1 2 3 # first\r\n   f 1 3 4\r\n");
   const mesh::TriangleMesh mesh = readMeshOk(file);
   EXPECT_EQ(mesh.vertexCount(), 4u);
   EXPECT_EQ(mesh.triangleCount(), 2u);
@@ -263,18 +264,18 @@ TEST(ReadMesh, BakesTextureBeforeWelding) {
   options.weldPositions = false;
   const mesh::TriangleMesh unwelded = readMeshOk(file, options);
   ASSERT_EQ(unwelded.vertexCount(), 6u);
-  EXPECT_EQ(unwelded.colours[0], glm::vec4(0, 0, 1, 1));  // (0.25, 0.25): bottom left, blue
-  EXPECT_EQ(unwelded.colours[1], glm::vec4(1, 1, 1, 1));  // bottom right, white
-  EXPECT_EQ(unwelded.colours[2], glm::vec4(0, 1, 0, 1));  // top right, green
-  EXPECT_EQ(unwelded.colours[3], glm::vec4(0, 1, 0, 1));  // vertex 1 again, with the top-right coordinate
-  EXPECT_EQ(unwelded.colours[4], glm::vec4(1, 0, 0, 1));  // top left, red
+  EXPECT_EQ(unwelded.colours[0], glm::vec4(0, 0, 1, 1));           // (0.25, 0.25): bottom left, blue
+  EXPECT_EQ(unwelded.colours[1], glm::vec4(1, 1, 1, 1));           // bottom right, white
+  EXPECT_EQ(unwelded.colours[2], glm::vec4(0, 1, 0, 1));           // top right, green
+  EXPECT_EQ(unwelded.colours[3], glm::vec4(0, 1, 0, 1));           // vertex 1 again, with the top-right coordinate
+  EXPECT_EQ(unwelded.colours[4], glm::vec4(1, 0, 0, 1));           // top left, red
   EXPECT_EQ(unwelded.colours[5], glm::vec4(0.5f, 0.5f, 0.5f, 1));  // centre: all four averaged
 
   options.weldPositions = true;
   const mesh::TriangleMesh welded = readMeshOk(file, options);
   ASSERT_EQ(welded.vertexCount(), 5u);
   EXPECT_EQ(welded.colours[0], glm::vec4(0.0f, 0.5f, 0.5f, 1.0f));  // blue and green averaged
-  EXPECT_EQ(welded.uvs[0], glm::vec2(0.25f, 0.25f));                 // first occurrence wins
+  EXPECT_EQ(welded.uvs[0], glm::vec2(0.25f, 0.25f));                // first occurrence wins
 }
 
 TEST(ReadMesh, BakesTranslucentTexelsWithTheirOwnColour) {

@@ -20,8 +20,8 @@ TEST(SharedMeshes, StanfordBunny) {
   EXPECT_EQ(mesh.triangleCount(), 69451u);
   EXPECT_FALSE(mesh.hasColours());
   EXPECT_FALSE(mesh.hasUvs());
-  EXPECT_EQ(mesh.normals.size(), mesh.vertexCount());  // computed
-  EXPECT_NEAR(mesh::boundingBoxDiagonal(mesh.positions), 0.25, 0.005);  // about 0.155 x 0.153 x 0.12
+  EXPECT_EQ(mesh.normals.size(), mesh.vertexCount());                           // computed
+  EXPECT_NEAR(mesh::boundingBoxDiagonal(mesh.positions), 0.25, 0.005);          // about 0.155 x 0.153 x 0.12
   EXPECT_EQ(mesh.positions[0], glm::vec3(-0.0378297f, 0.12794f, 0.00447467f));  // the file's first vertex
 }
 

@@ -22,9 +22,12 @@ enum class PlyEncoding { Ascii, BinaryLittleEndian, BinaryBigEndian };
 
 inline const char* plyFormatName(PlyEncoding encoding) {
   switch (encoding) {
-    case PlyEncoding::Ascii: return "ascii";
-    case PlyEncoding::BinaryLittleEndian: return "binary_little_endian";
-    case PlyEncoding::BinaryBigEndian: return "binary_big_endian";
+    case PlyEncoding::Ascii:
+      return "ascii";
+    case PlyEncoding::BinaryLittleEndian:
+      return "binary_little_endian";
+    case PlyEncoding::BinaryBigEndian:
+      return "binary_big_endian";
   }
   return "";
 }
@@ -55,21 +58,31 @@ inline void appendPlyValue(std::string& out, const std::string& type, double val
     return;
   }
   const bool big = encoding == PlyEncoding::BinaryBigEndian;
-  if (type == "float" || type == "float32") out += storeSamples(std::vector<float>{float(value)}, big);
-  else if (type == "double" || type == "float64") out += storeSamples(std::vector<double>{value}, big);
-  else if (type == "uchar" || type == "uint8") out += storeSamples(std::vector<std::uint8_t>{std::uint8_t(value)}, big);
-  else if (type == "char" || type == "int8") out += storeSamples(std::vector<std::int8_t>{std::int8_t(value)}, big);
-  else if (type == "ushort" || type == "uint16") out += storeSamples(std::vector<std::uint16_t>{std::uint16_t(value)}, big);
-  else if (type == "short" || type == "int16") out += storeSamples(std::vector<std::int16_t>{std::int16_t(value)}, big);
-  else if (type == "uint" || type == "uint32") out += storeSamples(std::vector<std::uint32_t>{std::uint32_t(value)}, big);
-  else if (type == "int" || type == "int32") out += storeSamples(std::vector<std::int32_t>{std::int32_t(value)}, big);
-  else ADD_FAILURE() << "unknown PLY type " << type;
+  if (type == "float" || type == "float32")
+    out += storeSamples(std::vector<float>{float(value)}, big);
+  else if (type == "double" || type == "float64")
+    out += storeSamples(std::vector<double>{value}, big);
+  else if (type == "uchar" || type == "uint8")
+    out += storeSamples(std::vector<std::uint8_t>{std::uint8_t(value)}, big);
+  else if (type == "char" || type == "int8")
+    out += storeSamples(std::vector<std::int8_t>{std::int8_t(value)}, big);
+  else if (type == "ushort" || type == "uint16")
+    out += storeSamples(std::vector<std::uint16_t>{std::uint16_t(value)}, big);
+  else if (type == "short" || type == "int16")
+    out += storeSamples(std::vector<std::int16_t>{std::int16_t(value)}, big);
+  else if (type == "uint" || type == "uint32")
+    out += storeSamples(std::vector<std::uint32_t>{std::uint32_t(value)}, big);
+  else if (type == "int" || type == "int32")
+    out += storeSamples(std::vector<std::int32_t>{std::int32_t(value)}, big);
+  else
+    ADD_FAILURE() << "unknown PLY type " << type;
 }
 
 inline std::string plyFile(const PlyContent& content, PlyEncoding encoding) {
   std::string out = "ply\nformat " + std::string(plyFormatName(encoding)) + " 1.0\ncomment made by mesh_io tests\n";
   out += "element vertex " + std::to_string(content.vertices.size()) + "\n";
-  for (const PlyProperty& property : content.vertexProperties) out += "property " + property.type + " " + property.name + "\n";
+  for (const PlyProperty& property : content.vertexProperties)
+    out += "property " + property.type + " " + property.name + "\n";
   if (content.faceElement) {
     out += "element face " + std::to_string(content.faces.size()) + "\n";
     out += "property list " + content.countType + " " + content.indexType + " vertex_indices\n";

@@ -122,8 +122,9 @@ TEST(WriteMesh, PositionsOnly) {
     EXPECT_FALSE(read.hasUvs());
     EXPECT_EQ(read.normals, mesh::computeVertexNormals(mesh.positions, mesh.indices));  // computed on reading
   }
-  EXPECT_EQ(readText(dir.file("plain.obj")), "# Polder mesh: 4 vertices, 2 triangles\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0.5\n"
-                                             "f 1 2 3\nf 3 2 4\n");
+  EXPECT_EQ(readText(dir.file("plain.obj")),
+            "# Polder mesh: 4 vertices, 2 triangles\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0.5\n"
+            "f 1 2 3\nf 3 2 4\n");
 }
 
 TEST(WriteMesh, ObjLayout) {

@@ -61,10 +61,10 @@ TEST(ClosestPointOnTriangle, KnownAnswersInEveryRegion) {
     Region region;
   };
   const Case cases[] = {
-      {{-1, -1, 1}, {0, 0, 0}, kVertexA},        {{2, -0.5, 3}, {1, 0, 0}, kVertexB},
-      {{-0.5, 2, -1}, {0, 1, 0}, kVertexC},      {{0.5, -1, 2}, {0.5, 0, 0}, kEdgeAB},
-      {{1, 1, -4}, {0.5, 0.5, 0}, kEdgeBC},      {{-1, 0.25, 0}, {0, 0.25, 0}, kEdgeCA},
-      {{0.2, 0.3, 5}, {0.2, 0.3, 0}, kFace},     {{0.2, 0.3, 0}, {0.2, 0.3, 0}, kFace},
+      {{-1, -1, 1}, {0, 0, 0}, kVertexA},    {{2, -0.5, 3}, {1, 0, 0}, kVertexB},
+      {{-0.5, 2, -1}, {0, 1, 0}, kVertexC},  {{0.5, -1, 2}, {0.5, 0, 0}, kEdgeAB},
+      {{1, 1, -4}, {0.5, 0.5, 0}, kEdgeBC},  {{-1, 0.25, 0}, {0, 0.25, 0}, kEdgeCA},
+      {{0.2, 0.3, 5}, {0.2, 0.3, 0}, kFace}, {{0.2, 0.3, 0}, {0.2, 0.3, 0}, kFace},
   };
   for (const Case& test : cases) {
     const TrianglePoint r = closestPointOnTriangle(test.p, a, b, c);
@@ -106,11 +106,11 @@ TEST(ClosestPointOnTriangle, DegenerateTrianglesAreTheirEdges) {
   std::uniform_real_distribution<double> u(-2.0, 2.0);
   const glm::dvec3 x(0.1, -0.2, 0.3), y(1.1, 0.8, -0.7);
   const std::array<std::array<glm::dvec3, 3>, 5> triangles = {{
-      {x, x, x},                           // one point
-      {x, y, y},                           // two coincident corners
-      {x, 0.5 * (x + y), y},               // collinear, middle corner between
-      {0.5 * (x + y), x, y},               // collinear, middle corner first
-      {x, y, x + 3.0 * (y - x)},           // collinear, corner beyond
+      {x, x, x},                  // one point
+      {x, y, y},                  // two coincident corners
+      {x, 0.5 * (x + y), y},      // collinear, middle corner between
+      {0.5 * (x + y), x, y},      // collinear, middle corner first
+      {x, y, x + 3.0 * (y - x)},  // collinear, corner beyond
   }};
   for (const auto& t : triangles) {
     for (int i = 0; i < 500; ++i) {

@@ -13,7 +13,8 @@ terrain::Heightfield hills() {
   terrain::Heightfield field(129, 129, 20.0, 20.0);
   for (int y = 0; y < field.height; ++y)
     for (int x = 0; x < field.width; ++x)
-      field.at(x, y) = float(300.0 + 120.0 * std::sin(x * 0.11) * std::cos(y * 0.07) + 40.0 * std::sin(x * 0.37 + y * 0.23));
+      field.at(x, y) =
+          float(300.0 + 120.0 * std::sin(x * 0.11) * std::cos(y * 0.07) + 40.0 * std::sin(x * 0.37 + y * 0.23));
   return field;
 }
 

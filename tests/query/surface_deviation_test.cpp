@@ -42,9 +42,9 @@ TriangleMesh sphere(int rings, int segments, float radius) {
     const double theta = pi * r / rings;
     for (int s = 0; s < segments; ++s) {
       const double phi = 2.0 * pi * s / segments;
-      mesh.positions.push_back(glm::vec3(glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                                                    std::cos(theta)) *
-                                         double(radius)));
+      mesh.positions.push_back(
+          glm::vec3(glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)) *
+                    double(radius)));
     }
   }
   mesh.positions.push_back({0, 0, -radius});

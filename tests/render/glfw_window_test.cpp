@@ -46,8 +46,8 @@ GlfwWindowOptions smallWindow() {
 // during the reset is refused. Retry briefly instead of failing on the test harness's race.
 Result<std::unique_ptr<GlfwWindow>> openWindow() {
   auto window = GlfwWindow::create(smallWindow());
-  for (int attempt = 0; attempt < 40 && !window.ok() &&
-                        window.error().message.find("Failed to open display") != std::string::npos;
+  for (int attempt = 0;
+       attempt < 40 && !window.ok() && window.error().message.find("Failed to open display") != std::string::npos;
        ++attempt) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     window = GlfwWindow::create(smallWindow());

@@ -191,10 +191,9 @@ TEST_F(RendererTest, GridPiecesThatShareVerticesDrawExactlyLikeOneMesh) {
   camera.pitchDeg = -28.0;
 
   const test::GridMeshData whole = test::makeGridMesh(0, 0, 64, 64, spacing, height);
-  const test::GridMeshData parts[4] = {test::makeGridMesh(0, 0, 29, 37, spacing, height),
-                                       test::makeGridMesh(29, 0, 64, 37, spacing, height),
-                                       test::makeGridMesh(0, 37, 29, 64, spacing, height),
-                                       test::makeGridMesh(29, 37, 64, 64, spacing, height)};
+  const test::GridMeshData parts[4] = {
+      test::makeGridMesh(0, 0, 29, 37, spacing, height), test::makeGridMesh(29, 0, 64, 37, spacing, height),
+      test::makeGridMesh(0, 37, 29, 64, spacing, height), test::makeGridMesh(29, 37, 64, 64, spacing, height)};
   auto draw = [&](std::span<const test::GridMeshData> meshes) {
     std::vector<render::MeshHandle> handles;
     for (const test::GridMeshData& mesh : meshes) {
@@ -235,7 +234,9 @@ TEST_F(RendererTest, GridMeshesFarFromTheOriginDrawLikeGridsAtTheOrigin) {
   for (int i = 0; i < 2; ++i) {
     const std::int64_t base = i == 0 ? 0 : far;
     const double baseM = double(base) * spacing.x;
-    auto height = [baseM](double x, double y) { return test::hills(float(x - baseM - 400.0), float(y - baseM - 400.0)); };
+    auto height = [baseM](double x, double y) {
+      return test::hills(float(x - baseM - 400.0), float(y - baseM - 400.0));
+    };
     const test::GridMeshData hills = test::makeGridMesh(base, base, base + 640, base + 640, spacing, height);
     auto handle = m_renderer->upload(hills.view());
     ASSERT_TRUE(handle.ok());
@@ -318,7 +319,7 @@ TEST_F(RendererTest, TransientStreamStopsGrowingInSteadyState) {
   ASSERT_TRUE(created.ok()) << created.error().message;
   Renderer& renderer = **created;
 
-  const MeshData near = makeGrid({0.0, 0.0, 0.0}, 200.0f, 32, test::hills);         // 1089 vertices
+  const MeshData near = makeGrid({0.0, 0.0, 0.0}, 200.0f, 32, test::hills);          // 1089 vertices
   const MeshData far = makeGrid({400.0, 0.0, 0.0}, 200.0f, 32, test::hills, false);  // normals computed
   Camera camera = smallCamera();
   camera.position = {200.0, -500.0, 300.0};

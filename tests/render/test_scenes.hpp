@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <cstdint>
+#include <cstdlib>
 #include <functional>
 
 #include <glm/glm.hpp>
@@ -57,8 +57,8 @@ struct GridMeshData {
   GridMeshView view() const { return GridMeshView{anchor, spacing, vertices, indices}; }
 };
 
-inline GridMeshData makeGridMesh(std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1, GridSpacing spacing,
-                                 const std::function<float(double, double)>& height) {
+inline GridMeshData makeGridMesh(std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1,
+                                 GridSpacing spacing, const std::function<float(double, double)>& height) {
   GridMeshData mesh;
   mesh.anchor = GridAnchor{x0, y0};
   mesh.spacing = spacing;
@@ -112,4 +112,3 @@ inline int maxChannelDifference(const RgbaImage& a, const RgbaImage& b) {
 inline std::uint8_t toByte(float c) { return std::uint8_t(std::lround(std::clamp(c, 0.0f, 1.0f) * 255.0f)); }
 
 }  // namespace polder::test
-

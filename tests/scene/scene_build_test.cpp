@@ -195,7 +195,8 @@ TEST(BuildScene, ErrorsNameThePartOfTheDescription) {
   SceneDescription noPath = description;
   noPath.cameraPath.kind = CameraPathDescription::Kind::File;
   noPath.cameraPath.file = dir.file("absent.txt");
-  EXPECT_NE(failure(noPath).find("camera.path: cannot open '" + dir.file("absent.txt").string() + "'"), std::string::npos);
+  EXPECT_NE(failure(noPath).find("camera.path: cannot open '" + dir.file("absent.txt").string() + "'"),
+            std::string::npos);
 
   SceneDescription missingMesh = description;
   missingMesh.models[0].shape = MeshFileDescription{dir.file("missing.obj"), {}};

@@ -1,10 +1,10 @@
 #include "test_support.hpp"
 
+#include <unistd.h>
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
-#include <unistd.h>
 
 namespace polder::test {
 
@@ -31,9 +31,8 @@ std::filesystem::path sourceDir() { return POLDER_SOURCE_DIR; }
 ScratchDir::ScratchDir() {
   static std::atomic<int> counter{0};
   const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
-  m_path = std::filesystem::temp_directory_path() /
-           ("polder-test-" + std::to_string(::getpid()) + "-" + std::to_string(stamp) + "-" +
-            std::to_string(counter++));
+  m_path = std::filesystem::temp_directory_path() / ("polder-test-" + std::to_string(::getpid()) + "-" +
+                                                     std::to_string(stamp) + "-" + std::to_string(counter++));
   std::filesystem::create_directories(m_path);
 }
 

@@ -40,8 +40,8 @@ void writeFile(const std::filesystem::path& path, const std::string& bytes);
 }  // namespace polder::test
 
 // Skips the current test with a message naming the missing shared file.
-#define POLDER_REQUIRE_SHARED_FILE(var, relative)                                                  \
-  const auto var##_optional = ::polder::test::sharedDataFile(relative);                            \
-  if (!var##_optional) GTEST_SKIP() << "shared data file " << (relative)                          \
-                                    << " is absent (../shared/data or $POLDER_DATA_DIR); skipped"; \
+#define POLDER_REQUIRE_SHARED_FILE(var, relative)                                                                    \
+  const auto var##_optional = ::polder::test::sharedDataFile(relative);                                              \
+  if (!var##_optional)                                                                                               \
+    GTEST_SKIP() << "shared data file " << (relative) << " is absent (../shared/data or $POLDER_DATA_DIR); skipped"; \
   const std::filesystem::path var = *var##_optional

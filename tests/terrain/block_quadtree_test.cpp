@@ -11,8 +11,8 @@
 #include <span>
 #include <vector>
 
-#include <glm/glm.hpp>
 #include <gtest/gtest.h>
+#include <glm/glm.hpp>
 
 #include <polder/terrain/rtin.hpp>
 
@@ -58,7 +58,8 @@ Heightfield makeField(int width, int height, std::uint64_t seed, double spacing 
   std::uniform_real_distribution<double> noise(-3.0, 3.0);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
-      double h = 400.0 + 250.0 * std::sin(x * 0.031) * std::cos(y * 0.027) + 120.0 * std::abs(std::sin(0.011 * (x + 2 * y)));
+      double h =
+          400.0 + 250.0 * std::sin(x * 0.031) * std::cos(y * 0.027) + 120.0 * std::abs(std::sin(0.011 * (x + 2 * y)));
       h += 40.0 * std::sin(x * 0.21 + y * 0.17) + noise(rng);
       if (x > width / 2 && y > height / 2) h = std::min(h, 520.0);  // a plateau
       if (x < width / 4 && y < height / 4) h = 300.0;               // a lake
@@ -78,7 +79,8 @@ template <class F>
 void forEachNode(const BlockLayout& layout, F&& f) {
   for (int level = 0; level <= layout.rootLevel(); ++level) {
     for (int by = 0; by < layout.nodesY(level); ++by) {
-      for (int bx = 0; bx < layout.nodesX(level); ++bx) f(NodeId{std::uint8_t(level), std::uint32_t(bx), std::uint32_t(by)});
+      for (int bx = 0; bx < layout.nodesX(level); ++bx)
+        f(NodeId{std::uint8_t(level), std::uint32_t(bx), std::uint32_t(by)});
     }
   }
 }
@@ -87,7 +89,8 @@ Camera randomCamera(std::mt19937_64& rng, const Heightfield& field) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   Camera camera;
   const int sx = int(unit(rng) * (field.width - 1)), sy = int(unit(rng) * (field.height - 1));
-  camera.position = glm::dvec3(sx * field.spacingX, sy * field.spacingY, field.at(sx, sy) + 2.0 + 400.0 * unit(rng) * unit(rng));
+  camera.position =
+      glm::dvec3(sx * field.spacingX, sy * field.spacingY, field.at(sx, sy) + 2.0 + 400.0 * unit(rng) * unit(rng));
   // A few cameras off the DEM, looking at it or away.
   if (unit(rng) < 0.15) camera.position.x += (unit(rng) < 0.5 ? -1.0 : 1.0) * field.extentX() * 0.7;
   camera.yawDeg = 360.0 * unit(rng);
@@ -311,8 +314,10 @@ TEST(BlockQuadtree, SelectionTilesTheDemCullsConservativelyAndMeetsTau) {
       const double K = camera.errorProjectionConstant();
       for (const SelectedNode& s : cut) {
         const Aabb world = tree.box(s.node);
-        EXPECT_EQ(s.distanceM, distanceToOrigin(Aabb{world.minCorner - camera.position, world.maxCorner - camera.position}));
-        const double error = measure == NodeErrorMeasure::Floor ? tree.info(s.node).floorDelta() : tree.info(s.node).delta();
+        EXPECT_EQ(s.distanceM,
+                  distanceToOrigin(Aabb{world.minCorner - camera.position, world.maxCorner - camera.position}));
+        const double error =
+            measure == NodeErrorMeasure::Floor ? tree.info(s.node).floorDelta() : tree.info(s.node).delta();
         if (s.visible) {
           ++visibleSeen;
           coarseSeen += s.node.level > 0;
@@ -326,7 +331,8 @@ TEST(BlockQuadtree, SelectionTilesTheDemCullsConservativelyAndMeetsTau) {
           const NodeId parent = s.node.parent();
           const Aabb pw = tree.box(parent);
           const double pd = distanceToOrigin(Aabb{pw.minCorner - camera.position, pw.maxCorner - camera.position});
-          const double pe = measure == NodeErrorMeasure::Floor ? tree.info(parent).floorDelta() : tree.info(parent).delta();
+          const double pe =
+              measure == NodeErrorMeasure::Floor ? tree.info(parent).floorDelta() : tree.info(parent).delta();
           EXPECT_GT(K * pe, tau * pd);
           EXPECT_TRUE(Frustum::fromCamera(camera).intersects(pw));
         }
@@ -346,7 +352,8 @@ TEST(BlockQuadtree, SelectionTilesTheDemCullsConservativelyAndMeetsTau) {
                 const glm::dvec3 t(double(i) / kSteps, double(j) / kSteps, double(l) / kSteps);
                 const glm::dvec3 p = box.minCorner + t * (box.maxCorner - box.minCorner) - camera.position;
                 const glm::dvec4 clip = viewProjection * glm::dvec4(p, 1.0);
-                seen = clip.w > 0.0 && std::abs(clip.x) <= clip.w && std::abs(clip.y) <= clip.w && std::abs(clip.z) <= clip.w;
+                seen = clip.w > 0.0 && std::abs(clip.x) <= clip.w && std::abs(clip.y) <= clip.w &&
+                       std::abs(clip.z) <= clip.w;
               }
             }
           }
@@ -416,18 +423,20 @@ TEST(BlockQuadtree, FallsBackToTheResidentAncestorNeverAHole) {
     }
   }
   EXPECT_TRUE(parentTaken);
-  EXPECT_EQ(cut.size(), full.size() - [&] {
-    std::size_t siblings = 0;  // the parent's children in the full cut, replaced by the parent
-    for (const SelectedNode& s : full) siblings += s.node.level == 0 && s.node.parent() == missing.parent();
-    return siblings - 1;
-  }());
+  EXPECT_EQ(
+      cut.size(), full.size() - [&] {
+        std::size_t siblings = 0;  // the parent's children in the full cut, replaced by the parent
+        for (const SelectedNode& s : full) siblings += s.node.level == 0 && s.node.parent() == missing.parent();
+        return siblings - 1;
+      }());
 
   // Random residency: visible nodes are always resident (or the root), and the cut tiles.
   std::mt19937_64 rng(9);
   for (int trial = 0; trial < 20; ++trial) {
     const std::uint64_t salt = rng();
     auto randomResidency = [&](NodeId node) {
-      const std::uint64_t h = (std::uint64_t(node.level) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(node.bx) * 0xBF58476D1CE4E5B9ull) ^
+      const std::uint64_t h = (std::uint64_t(node.level) * 0x9E3779B97F4A7C15ull) ^
+                              (std::uint64_t(node.bx) * 0xBF58476D1CE4E5B9ull) ^
                               (std::uint64_t(node.by) * 0x94D049BB133111EBull) ^ salt;
       return ((h >> 29) ^ h) % 10 < 7;
     };
@@ -494,7 +503,8 @@ TEST(BlockQuadtree, ForcedSplitsReplaceListedNodesByTheirChildren) {
     const SelectionStats emptyStats = tree.select(camera, empty, scratch, again);
     EXPECT_TRUE(sameSelection(again, plain));
     EXPECT_EQ(emptyStats.nodesVisited, plainStats.nodesVisited);
-    const std::array<NodeId, 2> leaves{NodeId{0, 0, 0}, plain.front().node.level == 0 ? plain.front().node : NodeId{0, 1, 1}};
+    const std::array<NodeId, 2> leaves{NodeId{0, 0, 0},
+                                       plain.front().node.level == 0 ? plain.front().node : NodeId{0, 1, 1}};
     SelectionOptions levelZero{tau, measure};
     levelZero.forcedSplits = leaves;
     tree.select(camera, levelZero, scratch, again);
@@ -538,9 +548,9 @@ TEST(BlockQuadtree, ForcedSplitsReplaceListedNodesByTheirChildren) {
     }
 
     // A node below the plain cut: its ancestors and itself are refined.
-    const SelectedNode& coarse = *std::max_element(plain.begin(), plain.end(), [](const SelectedNode& a, const SelectedNode& b) {
-      return a.node.level < b.node.level;
-    });
+    const SelectedNode& coarse =
+        *std::max_element(plain.begin(), plain.end(),
+                          [](const SelectedNode& a, const SelectedNode& b) { return a.node.level < b.node.level; });
     if (coarse.node.level >= 2) {
       NodeId deep = coarse.node;
       while (deep.level > 1) {

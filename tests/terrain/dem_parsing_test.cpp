@@ -33,8 +33,8 @@ TEST(ParseRawLayout, RoundTripsThroughItsName) {
 }
 
 TEST(ParseRawLayout, RejectsMalformedTextNamingIt) {
-  for (const char* text : {"", "1024", "1024x1024", "1024x:u16", "x5:u16", "0x5:u16", "5x0:u16", "-5x5:u16",
-                           "5x5:u8", "5x5:u16:middle", "5x5:u16:le:x", "99999999999x5:u16", "5 x5:u16", "5x5u16"}) {
+  for (const char* text : {"", "1024", "1024x1024", "1024x:u16", "x5:u16", "0x5:u16", "5x0:u16", "-5x5:u16", "5x5:u8",
+                           "5x5:u16:middle", "5x5:u16:le:x", "99999999999x5:u16", "5 x5:u16", "5x5u16"}) {
     const auto layout = parseRawLayout(text);
     ASSERT_FALSE(layout.ok()) << "accepted '" << text << "'";
     EXPECT_EQ(layout.error().kind, ErrorKind::InvalidArgument);
@@ -49,8 +49,8 @@ TEST(ParseHeightEncoding, ReadsEveryNameAndRejectsOthers) {
   EXPECT_EQ(*parseHeightEncoding("greyscale"), HeightEncoding::Greyscale);
   EXPECT_EQ(*parseHeightEncoding("terrain-rgb"), HeightEncoding::TerrainRgb);
   EXPECT_EQ(*parseHeightEncoding("terrarium"), HeightEncoding::Terrarium);
-  for (HeightEncoding e : {HeightEncoding::Auto, HeightEncoding::Greyscale, HeightEncoding::TerrainRgb,
-                           HeightEncoding::Terrarium})
+  for (HeightEncoding e :
+       {HeightEncoding::Auto, HeightEncoding::Greyscale, HeightEncoding::TerrainRgb, HeightEncoding::Terrarium})
     EXPECT_EQ(*parseHeightEncoding(heightEncodingName(e)), e);
 
   const auto bad = parseHeightEncoding("mapbox");

@@ -391,8 +391,8 @@ TEST(Dikes, FullDetailAtLevelZeroIsTheSurface) {
   // Edge blocks clipped, dikes against the DEM's east and north borders (e.g. 69 = 4 * 17 + 1:
   // the last interior ends one sample before the border), single-cell blocks (k = 1: a
   // junction at every block corner), and the default block size.
-  const Case cases[] = {{67, 67, 4}, {69, 52, 4}, {100, 61, 4}, {131, 97, 3}, {34, 34, 5}, {35, 70, 5},
-                        {41, 29, 1}, {30, 43, 2}, {18, 18, 4}, {19, 36, 4}};
+  const Case cases[] = {{67, 67, 4}, {69, 52, 4}, {100, 61, 4}, {131, 97, 3}, {34, 34, 5},
+                        {35, 70, 5}, {41, 29, 1}, {30, 43, 2},  {18, 18, 4},  {19, 36, 4}};
   std::mt19937_64 rng(424242);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   DikeScratch scratch;
@@ -477,9 +477,10 @@ TEST(Dikes, OneCellJunctionsAreCutLikeTheSurface) {
       for (int e = 0; e < 3; ++e) {
         const DikeVertex p = v[e], q = v[(e + 1) % 3];
         const bool southWestToNorthEast = std::abs(p.x - q.x) == 1 && (p.x - q.x) == (p.y - q.y);
-        EXPECT_FALSE(southWestToNorthEast) << "seed " << seed << ": junction edge (" << p.x << "," << p.y << ")-(" << q.x
-                                           << "," << q.y << ") cuts a cell against the surface";
-        sawDiagonal |= (p == DikeVertex{3, 2} && q == DikeVertex{2, 3}) || (p == DikeVertex{2, 3} && q == DikeVertex{3, 2});
+        EXPECT_FALSE(southWestToNorthEast) << "seed " << seed << ": junction edge (" << p.x << "," << p.y << ")-("
+                                           << q.x << "," << q.y << ") cuts a cell against the surface";
+        sawDiagonal |=
+            (p == DikeVertex{3, 2} && q == DikeVertex{2, 3}) || (p == DikeVertex{2, 3} && q == DikeVertex{3, 2});
       }
     }
     EXPECT_TRUE(sawDiagonal) << "seed " << seed;
@@ -742,9 +743,11 @@ TEST(Dikes, SampleErrorScansTheSamplesOnly) {
     const std::int64_t area = std::int64_t(b.x - a.x) * (c.y - a.y) - std::int64_t(b.y - a.y) * (c.x - a.x);
     if (area == 0) continue;
     const double gx = ((field.at(b.x, b.y) - double(field.at(a.x, a.y))) * (c.y - a.y) -
-                       (field.at(c.x, c.y) - double(field.at(a.x, a.y))) * (b.y - a.y)) / double(area);
+                       (field.at(c.x, c.y) - double(field.at(a.x, a.y))) * (b.y - a.y)) /
+                      double(area);
     const double gy = ((b.x - a.x) * (field.at(c.x, c.y) - double(field.at(a.x, a.y))) -
-                       (c.x - a.x) * (field.at(b.x, b.y) - double(field.at(a.x, a.y)))) / double(area);
+                       (c.x - a.x) * (field.at(b.x, b.y) - double(field.at(a.x, a.y)))) /
+                      double(area);
     double expected = 0.0;
     for (int y = 0; y < field.height; ++y)
       for (int x = 0; x < field.width; ++x) {

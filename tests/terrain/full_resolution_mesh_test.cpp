@@ -181,8 +181,8 @@ TEST(FullResolutionMesh, PositionsStayWithinACentimetreAtLargeSpacing) {
     triangles += mesh.triangleCount();
     for (std::uint32_t v = 0; v < mesh.positions.size(); ++v) {
       const GridKey key = keyOf(field, mesh, v);
-      worst = std::max(worst, glm::length(mesh.origin + glm::dvec3(mesh.positions[v]) -
-                                          field.worldPosition(key.first, key.second)));
+      worst = std::max(
+          worst, glm::length(mesh.origin + glm::dvec3(mesh.positions[v]) - field.worldPosition(key.first, key.second)));
       EXPECT_LE(std::abs(mesh.positions[v].x), kMaxChunkExtentM);
       EXPECT_LE(std::abs(mesh.positions[v].y), kMaxChunkExtentM);
     }

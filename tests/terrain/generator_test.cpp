@@ -268,8 +268,8 @@ TEST(FillDepressions, RaisesABasinToItsRimAndLeavesTheRestAlone) {
   EXPECT_EQ(countPits(field), 0);
   for (std::size_t i = 0; i < field.heights.size(); ++i) EXPECT_GE(field.heights[i], before.heights[i]);
   EXPECT_GT(field.at(10, 10), before.at(10, 10) + 10.0f);  // the bowl's bottom came up
-  EXPECT_LT(field.at(10, 10), 2.0f * 10 + 1.0f);            // but not above its rim, plus epsilons
-  EXPECT_EQ(field.at(10, 18), before.at(10, 18));           // outside the bowl: untouched
+  EXPECT_LT(field.at(10, 10), 2.0f * 10 + 1.0f);           // but not above its rim, plus epsilons
+  EXPECT_EQ(field.at(10, 18), before.at(10, 18));          // outside the bowl: untouched
   EXPECT_EQ(field.at(3, 4), before.at(3, 4));
 }
 
@@ -299,7 +299,8 @@ TEST(ErodeThermal, LowersSlopesSteeperThanTalusAndKeepsTheVolume) {
   EXPECT_NEAR(std::accumulate(field.heights.begin(), field.heights.end(), 0.0), volumeBefore, 1e-3);
   double steepest = 0.0;
   for (int y = 0; y < 15; ++y)
-    for (int x = 0; x + 1 < 15; ++x) steepest = std::max(steepest, std::abs(double(field.at(x + 1, y)) - field.at(x, y)));
+    for (int x = 0; x + 1 < 15; ++x)
+      steepest = std::max(steepest, std::abs(double(field.at(x + 1, y)) - field.at(x, y)));
   EXPECT_LT(steepest, options.talusSlope * 1.5);
 }
 

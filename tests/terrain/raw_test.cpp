@@ -22,7 +22,9 @@ std::vector<std::byte> store(const std::vector<T>& values, bool bigEndian) {
   return out;
 }
 
-RawLayout layout(int width, int height, SampleType type, bool bigEndian) { return RawLayout{width, height, type, bigEndian}; }
+RawLayout layout(int width, int height, SampleType type, bool bigEndian) {
+  return RawLayout{width, height, type, bigEndian};
+}
 
 TEST(Raw, ByteSize) {
   EXPECT_EQ(rawByteSize(layout(3, 2, SampleType::U16, false)), 12u);

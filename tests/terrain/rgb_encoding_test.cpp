@@ -105,7 +105,8 @@ TEST(RgbEncoding, TransparentPixelsDoNotSpoilDetection) {
 TEST(RgbEncoding, ImplausibleColoursAreAnError) {
   // Saturated colours: R = 200 is beyond Terrarium's 9 km and Terrain-RGB's too.
   std::vector<std::uint8_t> pixels(16 * 16 * 3);
-  for (std::size_t i = 0; i < pixels.size(); i += 3) pixels[i] = 200, pixels[i + 1] = std::uint8_t(i), pixels[i + 2] = 30;
+  for (std::size_t i = 0; i < pixels.size(); i += 3)
+    pixels[i] = 200, pixels[i + 1] = std::uint8_t(i), pixels[i + 2] = 30;
   const auto detected = detectRgbEncoding({pixels.data(), 16, 16, 3});
   ASSERT_FALSE(detected.ok());
   EXPECT_EQ(detected.error().kind, ErrorKind::InvalidData);

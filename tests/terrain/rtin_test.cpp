@@ -28,11 +28,16 @@ enum class Shape { Flat, Plane, Random, Sines, Fractal };
 
 const char* shapeName(Shape shape) {
   switch (shape) {
-    case Shape::Flat: return "flat";
-    case Shape::Plane: return "plane";
-    case Shape::Random: return "random";
-    case Shape::Sines: return "sines";
-    case Shape::Fractal: return "fractal";
+    case Shape::Flat:
+      return "flat";
+    case Shape::Plane:
+      return "plane";
+    case Shape::Random:
+      return "random";
+    case Shape::Sines:
+      return "sines";
+    case Shape::Fractal:
+      return "fractal";
   }
   return "?";
 }
@@ -72,16 +77,24 @@ Heightfield makeField(Shape shape, int width, int height, unsigned seed, double 
     for (int x = 0; x < width; ++x) {
       float h = 0.0f;
       switch (shape) {
-        case Shape::Flat: h = 12.5f; break;
-        case Shape::Plane: h = float(x + 2 * y); break;  // exact in float: a true plane
-        case Shape::Random: h = 100.0f * unit(rng); break;
+        case Shape::Flat:
+          h = 12.5f;
+          break;
+        case Shape::Plane:
+          h = float(x + 2 * y);
+          break;  // exact in float: a true plane
+        case Shape::Random:
+          h = 100.0f * unit(rng);
+          break;
         case Shape::Sines:
           h = 40.0f * std::sin(0.05f * x + phase) + 25.0f * std::cos(0.083f * y - 0.3f * phase) +
               6.0f * std::sin(0.31f * (x + y)) + 2.0f * std::sin(1.7f * x - 0.9f * y);
           break;
         // A last octave of per-sample jitter: bilinear octaves alone are exactly planar
         // along many lines, which makes vertices free.
-        case Shape::Fractal: h = fractalAt(lattices, x, y) + 0.5f * unit(rng); break;
+        case Shape::Fractal:
+          h = fractalAt(lattices, x, y) + 0.5f * unit(rng);
+          break;
       }
       field.at(x, y) = h;
     }
@@ -208,8 +221,8 @@ void expectConforming(const BlockMesh& mesh) {
   for (const auto& [edge, count] : directed) {
     if (directed.count({edge.second, edge.first}) != 0) continue;
     const GridVertex a = mesh.vertices[edge.first], b = mesh.vertices[edge.second];
-    const bool onSide = (a.i == 0 && b.i == 0) || (a.i == cx && b.i == cx) || (a.j == 0 && b.j == 0) ||
-                        (a.j == cy && b.j == cy);
+    const bool onSide =
+        (a.i == 0 && b.i == 0) || (a.i == cx && b.i == cx) || (a.j == 0 && b.j == 0) || (a.j == cy && b.j == cy);
     ASSERT_TRUE(onSide) << "interior edge with one triangle: " << a.i << "," << a.j << " - " << b.i << "," << b.j;
   }
   // Side lists.
@@ -282,8 +295,7 @@ int expectHalfCellCuts(const BlockMesh& mesh) {
     }
     const bool expected = (cuts.size() == 2 && mesh.footprint.stride == 1) ? false : checkerboardSouthWestToNorthEast;
     for (bool cut : cuts) {
-      EXPECT_EQ(cut, expected) << "cell " << cell.first << "," << cell.second << " with " << cuts.size()
-                               << " halves";
+      EXPECT_EQ(cut, expected) << "cell " << cell.first << "," << cell.second << " with " << cuts.size() << " halves";
     }
     lonelyAgainstSurface += mesh.footprint.stride == 1 && cuts.size() == 1 && cuts[0];
   }
@@ -301,7 +313,7 @@ void expectHierarchy(const Heightfield& field, const BlockLod& lod) {
     const std::vector<int> t = pending.back();
     pending.pop_back();
     const GridVertex a{std::uint16_t(t[0]), std::uint16_t(t[1])}, b{std::uint16_t(t[2]), std::uint16_t(t[3])},
-                     c{std::uint16_t(t[4]), std::uint16_t(t[5])};
+        c{std::uint16_t(t[4]), std::uint16_t(t[5])};
     const bool inside = std::max({a.i, b.i, c.i}) <= lod.cellsX() && std::max({a.j, b.j, c.j}) <= lod.cellsY();
     const float stored = lod.triangleError(a, b, c);
     if (inside) {
@@ -409,9 +421,9 @@ TEST_P(RtinBlockTest, ErrorsAreExactMonotoneAndNested) {
   // The node error is the two root triangles' exact error.
   const int n = 1 << cfg.k;
   const BlockFootprint& fp = block.lod.footprint();
-  const double roots = std::max(bruteError(block.field, fp, {0, 0}, {std::uint16_t(n), 0}, {0, std::uint16_t(n)}),
-                                bruteError(block.field, fp, {std::uint16_t(n), std::uint16_t(n)}, {0, std::uint16_t(n)},
-                                           {std::uint16_t(n), 0}));
+  const double roots = std::max(
+      bruteError(block.field, fp, {0, 0}, {std::uint16_t(n), 0}, {0, std::uint16_t(n)}),
+      bruteError(block.field, fp, {std::uint16_t(n), std::uint16_t(n)}, {0, std::uint16_t(n)}, {std::uint16_t(n), 0}));
   EXPECT_GE(double(block.lod.maxError()), roots);
   EXPECT_NEAR(double(block.lod.maxError()), roots, tolerance(roots));
 }
@@ -517,8 +529,8 @@ TEST_P(RtinBlockTest, ViewExtractionKeepsProjectedErrorWithinTolerance) {
                        c = mesh.vertices[mesh.indices[3 * t + 2]];
       if (std::abs(b.i - c.i) == 1) continue;  // a half cell: only a finer quadtree level refines it
       const double err = bruteError(block.field, lod.footprint(), a, b, c);
-      const double distance = pointTriangleDistance(view.camera, lod.position(a.i, a.j), lod.position(b.i, b.j),
-                                                    lod.position(c.i, c.j));
+      const double distance =
+          pointTriangleDistance(view.camera, lod.position(a.i, a.j), lod.position(b.i, b.j), lod.position(c.i, c.j));
       const double projected = kConstant * err / std::max(distance, view.nearM);
       ASSERT_LE(projected, view.tolerancePx * (1.0 + 1e-9)) << "triangle " << t;
     }
@@ -677,7 +689,7 @@ TEST(Rtin, LoneHalfCellsKeepTheBintreeCut) {
   const std::array<int, 6> lone = {0, 0, 1, 1, 0, 1};  // apex (0, 1), the bintree's cut
   EXPECT_TRUE(std::find(tris.begin(), tris.end(), lone) != tris.end());
   EXPECT_EQ(lod.triangleError({0, 1}, {1, 1}, {0, 0}), 1.0f);
-  EXPECT_EQ(mesh.maxError, 1.0f);  // the lone half's gap, within the threshold
+  EXPECT_EQ(mesh.maxError, 1.0f);             // the lone half's gap, within the threshold
   lod.extractThreshold(0.5f, mesh, scratch);  // now vertex (1, 0) too: the cell is a diamond
   expectConforming(mesh);
   expectHonest(field, mesh);
@@ -749,10 +761,14 @@ TEST(Rtin, ReportedErrorsBoundTheTriangulatedSurfaceEverywhere) {
       for (int x = 0; x < w; ++x) {
         float z = 0.0f;
         switch (cs.ground) {
-          case Ground::Random: z = float(100.0 * unit(rng)); break;
+          case Ground::Random:
+            z = float(100.0 * unit(rng));
+            break;
           // In every cell one diagonal's ends are high and the other's low: a ridge or valley
           // along each full-resolution diagonal, on a tilt.
-          case Ground::Checkerboard: z = ((x + y) & 1 ? 30.0f : 0.0f) + 0.7f * float(x) - 0.4f * float(y); break;
+          case Ground::Checkerboard:
+            z = ((x + y) & 1 ? 30.0f : 0.0f) + 0.7f * float(x) - 0.4f * float(y);
+            break;
           case Ground::Sines:
             z = 20.0f * std::sin(0.9f * float(x) - 0.6f * float(y)) + 8.0f * std::cos(0.2f * float(y));
             break;
@@ -794,8 +810,8 @@ TEST(Rtin, ReportedErrorsBoundTheTriangulatedSurfaceEverywhere) {
       lod.extractCount(std::size_t(2 + unit(rng) * 2.0 * n * n), mesh, scratch);
       check("count trial " + std::to_string(trial));
       const double extent = n * cs.stride * field.spacingX;
-      LodView view{glm::dvec3(unit(rng) * extent, unit(rng) * extent, lod.maxHeight() + 5.0 + unit(rng) * 200.0),
-                   600.0, 0.5 + 4.0 * unit(rng), 1.0};
+      LodView view{glm::dvec3(unit(rng) * extent, unit(rng) * extent, lod.maxHeight() + 5.0 + unit(rng) * 200.0), 600.0,
+                   0.5 + 4.0 * unit(rng), 1.0};
       lod.extractView(view, mesh, scratch);
       check("view trial " + std::to_string(trial));
     }
@@ -891,10 +907,14 @@ VertexSet vertexSet(const BlockMesh& mesh) {
 // Side position -> block-local vertex, for a mesh of cellsX x cellsY cells.
 std::pair<int, int> sideVertex(BlockEdge side, int position, int cellsX, int cellsY) {
   switch (side) {
-    case BlockEdge::South: return {position, 0};
-    case BlockEdge::East: return {cellsX, position};
-    case BlockEdge::North: return {position, cellsY};
-    case BlockEdge::West: return {0, position};
+    case BlockEdge::South:
+      return {position, 0};
+    case BlockEdge::East:
+      return {cellsX, position};
+    case BlockEdge::North:
+      return {position, cellsY};
+    case BlockEdge::West:
+      return {0, position};
   }
   return {-1, -1};
 }
@@ -1032,8 +1052,8 @@ TEST(Rtin, PinnedSideVerticesAreKeptAndTheMeshStaysConforming) {
         // and nothing beyond the closure is added.
         EXPECT_TRUE(std::includes(pinnedSet.begin(), pinnedSet.end(), expected.begin(), expected.end()));
         for (const auto& v : pinnedSet) {
-          EXPECT_TRUE(plainSet.count(v) != 0 || closure.count(v) != 0) << "vertex " << v.first << "," << v.second
-                                                                        << " added beyond the pins' closure";
+          EXPECT_TRUE(plainSet.count(v) != 0 || closure.count(v) != 0)
+              << "vertex " << v.first << "," << v.second << " added beyond the pins' closure";
         }
       }
       pinsAddedVertices += pinnedSet.size() > plainSet.size();
@@ -1051,9 +1071,10 @@ TEST(Rtin, PinnedSideVerticesAreKeptAndTheMeshStaysConforming) {
                          c = pinned.vertices[pinned.indices[3 * t + 2]];
         if (std::abs(b.i - c.i) == 1) continue;
         const double err = bruteError(field, lod.footprint(), a, b, c);
-        const double distance = pointTriangleDistance(view.camera, lod.position(a.i, a.j), lod.position(b.i, b.j),
-                                                      lod.position(c.i, c.j));
-        ASSERT_LE(kConstant * err / std::max(distance, view.nearM), view.tolerancePx * (1.0 + 1e-9)) << "triangle " << t;
+        const double distance =
+            pointTriangleDistance(view.camera, lod.position(a.i, a.j), lod.position(b.i, b.j), lod.position(c.i, c.j));
+        ASSERT_LE(kConstant * err / std::max(distance, view.nearM), view.tolerancePx * (1.0 + 1e-9))
+            << "triangle " << t;
       }
 
       // Empty pins, or pins already in the mesh, change nothing; nor does the order of calls.
@@ -1090,7 +1111,8 @@ TEST(Rtin, PinnedThresholdExtractionRefinesTheThresholdMesh) {
   for (const PinCase& cs : {PinCase{Shape::Fractal, 5, 1, 32, 32}, PinCase{Shape::Sines, 4, 2, 16, 16},
                             PinCase{Shape::Random, 5, 1, 13, 21}}) {
     const int n = 1 << cs.k;
-    const Heightfield field = makeField(cs.shape, cs.cellsX * cs.stride + 1, cs.cellsY * cs.stride + 1, 99u + unsigned(cs.k));
+    const Heightfield field =
+        makeField(cs.shape, cs.cellsX * cs.stride + 1, cs.cellsY * cs.stride + 1, 99u + unsigned(cs.k));
     auto built = BlockLod::build(field, BlockFootprint{0, 0, cs.k, cs.stride});
     ASSERT_TRUE(built.ok()) << built.error().message;
     BlockMesh plain, pinned;
@@ -1110,7 +1132,9 @@ TEST(Rtin, PinnedThresholdExtractionRefinesTheThresholdMesh) {
         const BlockEdge which = BlockEdge(side);
         const int length = (which == BlockEdge::South || which == BlockEdge::North) ? cs.cellsX : cs.cellsY;
         for (int p = 0; p <= length; ++p)
-          if (pins.pinned(which, p)) EXPECT_EQ(pinnedSet.count(sideVertex(which, p, cs.cellsX, cs.cellsY)), 1u) << side << " " << p;
+          if (pins.pinned(which, p)) {
+            EXPECT_EQ(pinnedSet.count(sideVertex(which, p, cs.cellsX, cs.cellsY)), 1u) << side << " " << p;
+          }
       }
       built->extractThreshold(threshold, plain, scratch, nullptr);  // the marks do not leak into the next one
       EXPECT_EQ(vertexSet(plain), plainSet);

@@ -34,7 +34,9 @@ Heightfield generated(int size, int width, int height, std::uint64_t seed, doubl
 }
 
 // The largest error of every triangle, measured again from the soup alone.
-float measuredMaxError(const Heightfield& field, const UniformMesh& mesh) { return soupMaxError(field, uniformMeshSoup(mesh)); }
+float measuredMaxError(const Heightfield& field, const UniformMesh& mesh) {
+  return soupMaxError(field, uniformMeshSoup(mesh));
+}
 
 void expectWatertight(const Heightfield& field, const UniformMesh& mesh, const char* what) {
   WatertightOptions options;
@@ -101,8 +103,8 @@ TEST(UniformMesh, RoughTerrainPinsDikesAndATinyBoundStillHolds) {
 
 TEST(UniformMesh, AnySizeAndBlockSizeWorks) {
   std::uint64_t state = 99;
-  for (const auto& [width, height] : {std::pair{2, 2}, std::pair{2, 9}, std::pair{3, 3}, std::pair{5, 40}, std::pair{34, 34},
-                                      std::pair{35, 67}, std::pair{130, 19}}) {
+  for (const auto& [width, height] : {std::pair{2, 2}, std::pair{2, 9}, std::pair{3, 3}, std::pair{5, 40},
+                                      std::pair{34, 34}, std::pair{35, 67}, std::pair{130, 19}}) {
     Heightfield field(width, height, 7.0, 11.0);
     for (std::size_t i = 0; i < field.heights.size(); ++i) {
       state = state * 6364136223846793005ull + 1442695040888963407ull;

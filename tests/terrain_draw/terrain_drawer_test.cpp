@@ -49,8 +49,8 @@ class TerrainDrawerTest : public ::testing::Test {
   // Flies the built-in loop over `field` and returns the cracks summed over the frames
   // (query/frame_cracks.hpp); `terrainShare` gets the smallest share of terrain pixels in a
   // frame, and `enclosedBackground` all enclosed background pixels, silhouette notches too.
-  std::size_t flyAndCountCracks(const std::shared_ptr<const terrain::Heightfield>& field, double altitudeM,
-                                int frames, double& terrainShare, std::size_t& enclosedBackground) {
+  std::size_t flyAndCountCracks(const std::shared_ptr<const terrain::Heightfield>& field, double altitudeM, int frames,
+                                double& terrainShare, std::size_t& enclosedBackground) {
     open(640, 360);
     auto engine = TerrainEngine::create(field, {});
     EXPECT_TRUE(engine.ok());
@@ -136,7 +136,9 @@ TEST_F(TerrainDrawerTest, UploadsExactlyTheCreatedAndChangedPiecesAndNothingWhil
     EXPECT_EQ(m_renderer->stats().uploadedBytes - before, expected) << "frame " << frame;
     EXPECT_EQ(drawer.stats().piecesUploaded, terrain.created.size() + terrain.changed.size());
     EXPECT_EQ(m_renderer->stats().meshCount, terrain.pieces.size()) << "one GPU mesh per piece, retired ones freed";
-    if (still && frame > 62) EXPECT_EQ(drawer.stats().uploadedBytes, 0u) << "frame " << frame;
+    if (still && frame > 62) {
+      EXPECT_EQ(drawer.stats().uploadedBytes, 0u) << "frame " << frame;
+    }
     m_renderer->beginFrame(camera, defaultTerrainStyle(*field));
     drawer.draw(terrain);
     ASSERT_TRUE(m_renderer->endFrame().ok());

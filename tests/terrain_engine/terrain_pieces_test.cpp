@@ -48,7 +48,9 @@ struct HeldPiece {
 };
 
 HeldPiece hold(const TerrainPiece& piece) {
-  return HeldPiece{piece.version, piece.mesh.anchor, {piece.mesh.vertices.begin(), piece.mesh.vertices.end()},
+  return HeldPiece{piece.version,
+                   piece.mesh.anchor,
+                   {piece.mesh.vertices.begin(), piece.mesh.vertices.end()},
                    {piece.mesh.indices.begin(), piece.mesh.indices.end()}};
 }
 
@@ -58,8 +60,8 @@ Camera flightCamera(int frame, const terrain::Heightfield& field) {
   camera.widthPx = 320;
   camera.heightPx = 240;
   const double t = frame / 60.0;
-  camera.position = {field.extentX() * (0.5 + 0.35 * std::cos(0.9 * t)), field.extentY() * (0.5 + 0.35 * std::sin(0.9 * t)),
-                     2200.0 + 900.0 * std::sin(0.5 * t)};
+  camera.position = {field.extentX() * (0.5 + 0.35 * std::cos(0.9 * t)),
+                     field.extentY() * (0.5 + 0.35 * std::sin(0.9 * t)), 2200.0 + 900.0 * std::sin(0.5 * t)};
   camera.yawDeg = 40.0 * t;
   camera.pitchDeg = -25.0;
   return camera;
@@ -139,7 +141,8 @@ TEST(TerrainPieces, AStillCameraChangesNothing) {
   const TerrainFrame& first = (*engine)->update(camera);
   std::vector<std::uint64_t> versions;
   std::vector<const GridMeshVertex*> data;
-  for (const TerrainPiece& piece : first.pieces) versions.push_back(piece.version), data.push_back(piece.mesh.vertices.data());
+  for (const TerrainPiece& piece : first.pieces)
+    versions.push_back(piece.version), data.push_back(piece.mesh.vertices.data());
   for (int frame = 0; frame < 5; ++frame) {
     const TerrainFrame& again = (*engine)->update(camera);
     EXPECT_TRUE(again.created.empty());

@@ -22,9 +22,7 @@ glm::dvec3 Camera::right() const {
 
 glm::dvec3 Camera::up() const { return glm::cross(right(), forward()); }
 
-double Camera::projectionConstant() const {
-  return double(heightPx) / (2.0 * std::tan(0.5 * fovYDeg * kDegToRad));
-}
+double Camera::projectionConstant() const { return double(heightPx) / (2.0 * std::tan(0.5 * fovYDeg * kDegToRad)); }
 
 double Camera::errorProjectionConstant() const {
   const double halfHeight = std::tan(0.5 * fovYDeg * kDegToRad);
@@ -36,15 +34,19 @@ glm::dmat4 Camera::viewRotation() const {
   const glm::dvec3 f = forward(), r = right(), u = up();
   glm::dmat4 view(1.0);
   // Rows are the eye axes: x = right, y = up, z = -forward.
-  view[0][0] = r.x; view[1][0] = r.y; view[2][0] = r.z;
-  view[0][1] = u.x; view[1][1] = u.y; view[2][1] = u.z;
-  view[0][2] = -f.x; view[1][2] = -f.y; view[2][2] = -f.z;
+  view[0][0] = r.x;
+  view[1][0] = r.y;
+  view[2][0] = r.z;
+  view[0][1] = u.x;
+  view[1][1] = u.y;
+  view[2][1] = u.z;
+  view[0][2] = -f.x;
+  view[1][2] = -f.y;
+  view[2][2] = -f.z;
   return view;
 }
 
-glm::dmat4 Camera::projection() const {
-  return glm::perspective(fovYDeg * kDegToRad, aspect(), nearM, farM);
-}
+glm::dmat4 Camera::projection() const { return glm::perspective(fovYDeg * kDegToRad, aspect(), nearM, farM); }
 
 glm::dvec3 Camera::pixelRay(double px, double py) const {
   const double halfHeight = std::tan(0.5 * fovYDeg * kDegToRad);

@@ -76,8 +76,8 @@ Result<CameraPath> CameraPath::parse(std::string_view text) {
                                                    ": expected 't x y z yaw pitch' (six numbers), got '" +
                                                    std::string(line) + "'");
     if (!poses.empty() && !(v[0] > poses.back().timeS))
-      return makeError(ErrorKind::InvalidData, "line " + std::to_string(lineNumber) + ": time " + std::to_string(v[0]) +
-                                                   " does not increase");
+      return makeError(ErrorKind::InvalidData,
+                       "line " + std::to_string(lineNumber) + ": time " + std::to_string(v[0]) + " does not increase");
     if (std::abs(v[5]) > 90.0)
       return makeError(ErrorKind::InvalidData, "line " + std::to_string(lineNumber) + ": pitch must be within -90..90");
     poses.push_back(CameraPose{v[0], {v[1], v[2], v[3]}, v[4], v[5]});
@@ -103,7 +103,8 @@ CameraPose CameraPath::at(double timeS) const {
     }
     timeS = start + local;
   }
-  if (timeS <= start) return CameraPose{timeS, m_poses.front().position, m_poses.front().yawDeg, m_poses.front().pitchDeg};
+  if (timeS <= start)
+    return CameraPose{timeS, m_poses.front().position, m_poses.front().yawDeg, m_poses.front().pitchDeg};
   if (timeS >= m_poses.back().timeS)
     return CameraPose{timeS, m_poses.back().position, m_poses.back().yawDeg, m_poses.back().pitchDeg};
   const auto next = std::upper_bound(m_poses.begin(), m_poses.end(), timeS,
@@ -152,9 +153,11 @@ CameraPath makeFlyoverLoop(double extentX, double extentY, const std::function<d
   for (int i = 0; i < n; ++i) {
     const glm::dvec2 ahead = points[wrap(i + 1)] - points[wrap(i - 1)];
     const double yaw = std::atan2(ahead.x, ahead.y) * 180.0 / kPi;
-    poses[std::size_t(i)] = CameraPose{i * stepS, {points[std::size_t(i)].x, points[std::size_t(i)].y,
-                                                    smoothed[std::size_t(i)] + options.altitudeM},
-                                       yaw, options.pitchDeg};
+    poses[std::size_t(i)] =
+        CameraPose{i * stepS,
+                   {points[std::size_t(i)].x, points[std::size_t(i)].y, smoothed[std::size_t(i)] + options.altitudeM},
+                   yaw,
+                   options.pitchDeg};
   }
   return std::move(CameraPath::fromPoses(std::move(poses), true).value());
 }

@@ -267,10 +267,8 @@ AllocationResult fillAll(std::span<const RegionDemand> regions, std::span<std::u
 
 AllocationResult allocateTriangles(std::span<const RegionDemand> regions, std::uint64_t budget, double alpha,
                                    std::span<std::uint32_t> outTriangles, AllocationScratch& scratch) {
-  assert(outTriangles.size() == regions.size() &&
-         "allocateTriangles: outTriangles must have one entry per region");
-  assert(regions.size() <= std::numeric_limits<std::uint32_t>::max() &&
-         "allocateTriangles: at most 2^32 - 1 regions");
+  assert(outTriangles.size() == regions.size() && "allocateTriangles: outTriangles must have one entry per region");
+  assert(regions.size() <= std::numeric_limits<std::uint32_t>::max() && "allocateTriangles: at most 2^32 - 1 regions");
   assert(alpha > 0.0 && std::isfinite(alpha) && "allocateTriangles: alpha must be finite and > 0");
   const std::size_t n = regions.size();
   if (n == 0) return AllocationResult{0, budget == 0};
@@ -304,9 +302,12 @@ AllocationResult allocateTriangles(std::span<const RegionDemand> regions, std::u
     const bool usable = weight > 0.0 && weight <= std::numeric_limits<double>::max();  // NaN, inf -> 0
     const double ratio = usable ? weight * invMaxWeight : 0.0;
     double share;
-    if (alpha == 1.0) share = ratio;
-    else if (alpha == 2.0) share = std::sqrt(ratio);  // a third of pow's cost
-    else share = std::pow(ratio, exponent);
+    if (alpha == 1.0)
+      share = ratio;
+    else if (alpha == 2.0)
+      share = std::sqrt(ratio);  // a third of pow's cost
+    else
+      share = std::pow(ratio, exponent);
     shares[i] = share;
     shareSum += share;
     if (share > 0.0) {
@@ -327,8 +328,8 @@ AllocationResult allocateTriangles(std::span<const RegionDemand> regions, std::u
     // zero-weight regions (the limit of giving them equal, vanishing weights).
     for (std::size_t i = 0; i < n; ++i) shares[i] = shares[i] > 0.0 ? kInfinity : 1.0;
     lambda = budget == sumPinned ? 0.0
-                                  : LevelSolver(regions, shares, scratch.m_undecided.data(), keys)
-                                        .solve(budgetReal, double(sumPinned), budgetReal / double(zeroWeightCount));
+                                 : LevelSolver(regions, shares, scratch.m_undecided.data(), keys)
+                                       .solve(budgetReal, double(sumPinned), budgetReal / double(zeroWeightCount));
   }
 
   // Integer parts, remainders kept in `shares` (no longer needed) for the rounding.
@@ -336,8 +337,10 @@ AllocationResult allocateTriangles(std::span<const RegionDemand> regions, std::u
   for (std::size_t i = 0; i < n; ++i) {
     const double share = shares[i];
     double ideal;
-    if (lambda > 0.0) ideal = clampedShare(lambda, share, regions[i]);
-    else ideal = share == kInfinity ? double(regions[i].maxTriangles) : double(regions[i].minTriangles);
+    if (lambda > 0.0)
+      ideal = clampedShare(lambda, share, regions[i]);
+    else
+      ideal = share == kInfinity ? double(regions[i].maxTriangles) : double(regions[i].minTriangles);
     outTriangles[i] = std::uint32_t(ideal);  // 0 <= ideal < 2^32: truncation is floor
     shares[i] = ideal - double(outTriangles[i]);
     total += outTriangles[i];

@@ -70,16 +70,43 @@ constexpr std::array<Silhouette, 64> kSilhouettes = {{
     {6, {2, 3, 7, 5, 4, 6}},  // 40: y+ z+
     {6, {0, 2, 3, 7, 5, 4}},  // 41: x- y+ z+
     {6, {1, 3, 2, 6, 4, 5}},  // 42: x+ y+ z+
-    {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}},  // 43-47: impossible
-    {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}},  // 48-55
-    {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}},  // 56-63
+    {0, {}},
+    {0, {}},
+    {0, {}},
+    {0, {}},
+    {0, {}},  // 43-47: impossible
+    {0, {}},
+    {0, {}},
+    {0, {}},
+    {0, {}},
+    {0, {}},
+    {0, {}},
+    {0, {}},
+    {0, {}},  // 48-55
+    {0, {}},
+    {0, {}},
+    {0, {}},
+    {0, {}},
+    {0, {}},
+    {0, {}},
+    {0, {}},
+    {0, {}},  // 56-63
 }};
 
 // The 12 box edges as corner pairs (the corners differ in one bit).
 constexpr std::array<std::pair<std::uint8_t, std::uint8_t>, 12> kEdges = {{
-    {0, 1}, {2, 3}, {4, 5}, {6, 7},  // along axis 0
-    {0, 2}, {1, 3}, {4, 6}, {5, 7},  // along axis 1
-    {0, 4}, {1, 5}, {2, 6}, {3, 7},  // along axis 2
+    {0, 1},
+    {2, 3},
+    {4, 5},
+    {6, 7},  // along axis 0
+    {0, 2},
+    {1, 3},
+    {4, 6},
+    {5, 7},  // along axis 1
+    {0, 4},
+    {1, 5},
+    {2, 6},
+    {3, 7},  // along axis 2
 }};
 
 // A clipped box has at most 8 corners in front plus one crossing per edge; the viewport
@@ -152,8 +179,10 @@ Outline outlineOf(const OrientedBox& box, const AreaView& view) {
   int code = 0;
   for (int k = 0; k < 3; ++k) {
     const double eyeLocal = -glm::dot(box.axes[k], toCentre);
-    if (eyeLocal < -box.halfExtents[k]) code |= 1 << (2 * k);
-    else if (eyeLocal > box.halfExtents[k]) code |= 2 << (2 * k);
+    if (eyeLocal < -box.halfExtents[k])
+      code |= 1 << (2 * k);
+    else if (eyeLocal > box.halfExtents[k])
+      code |= 2 << (2 * k);
   }
   if (code == 0) {
     outline.eyeInside = true;
@@ -166,7 +195,7 @@ Outline outlineOf(const OrientedBox& box, const AreaView& view) {
   const glm::dvec3 axisEye2 = view.worldToEye * (box.axes[2] * box.halfExtents[2]);
   // How far the box reaches in depth either side of its centre.
   const double depthReach = std::abs(axisEye0.z) + std::abs(axisEye1.z) + std::abs(axisEye2.z);
-  const double centreDepth = -centreEye.z;  // eye space looks down -z
+  const double centreDepth = -centreEye.z;                     // eye space looks down -z
   if (centreDepth + depthReach <= view.nearM) return outline;  // wholly behind: nothing drawn
 
   // All eight corners in eye space: a few adds, cheaper than building each one.
@@ -269,8 +298,6 @@ double visibleAreaPx(const OrientedBox& box, const AreaView& view) {
   return polygonArea(bufferA.data(), count);
 }
 
-double visibleAreaPx(const OrientedBox& box, const Camera& camera) {
-  return visibleAreaPx(box, makeAreaView(camera));
-}
+double visibleAreaPx(const OrientedBox& box, const Camera& camera) { return visibleAreaPx(box, makeAreaView(camera)); }
 
 }  // namespace polder::lod

@@ -26,7 +26,8 @@ inline NormalizedPositions normalizePositions(const std::vector<glm::vec3>& posi
   const double diagonal = bounds.diagonal();
   out.diagonal = diagonal > 0.0 ? diagonal : 1.0;
   out.positions.resize(positions.size());
-  for (std::size_t v = 0; v < positions.size(); ++v) out.positions[v] = (glm::dvec3(positions[v]) - bounds.lo) / out.diagonal;
+  for (std::size_t v = 0; v < positions.size(); ++v)
+    out.positions[v] = (glm::dvec3(positions[v]) - bounds.lo) / out.diagonal;
   out.extent = (bounds.hi - bounds.lo) / out.diagonal;
   return out;
 }
@@ -70,8 +71,10 @@ inline std::vector<std::uint32_t> positionTwins(const std::vector<glm::vec3>& po
   for (std::uint32_t first = 0, end; first < count; first = end) {
     end = first + 1;
     while (end < count && positions[end] == positions[first]) ++end;
-    if (end - first == 2) twin[first] = first + 1, twin[first + 1] = first;
-    else if (end - first > 2) std::fill(twin.begin() + first, twin.begin() + end, kManyTwins);
+    if (end - first == 2)
+      twin[first] = first + 1, twin[first + 1] = first;
+    else if (end - first > 2)
+      std::fill(twin.begin() + first, twin.begin() + end, kManyTwins);
   }
   return twin;
 }
@@ -87,8 +90,8 @@ std::vector<std::uint32_t> keepSeamTwins(std::vector<std::uint32_t>& twin, const
   for (std::uint32_t v = 0; v < twin.size(); ++v) {
     const std::uint32_t other = twin[v];
     if (other == kNoTwin) continue;
-    const bool seam = other != kManyTwins && isBorder(v) && isBorder(other) &&
-                      partition.regionOf(v) == partition.regionOf(other);
+    const bool seam =
+        other != kManyTwins && isBorder(v) && isBorder(other) && partition.regionOf(v) == partition.regionOf(other);
     if (seam) continue;
     held.push_back(v);
     twin[v] = kNoTwin;

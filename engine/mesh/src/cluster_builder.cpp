@@ -13,8 +13,8 @@
 #include "builder_setup.hpp"
 #include "cluster_mesh.hpp"
 #include "cluster_worker.hpp"
-#include "locality_order.hpp"
 #include "halves.hpp"
+#include "locality_order.hpp"
 #include "polder/thread_pool.hpp"
 #include "step_listener.hpp"
 
@@ -161,8 +161,10 @@ class ClusterBuilder {
     }
     std::array<std::uint32_t, 2> size{};
     for (std::uint32_t v : m_aliveVertexList) {
-      if (m_part[v] & kBetweenParts) m_part[v] = kBetweenParts;
-      else ++size[m_part[v]];
+      if (m_part[v] & kBetweenParts)
+        m_part[v] = kBetweenParts;
+      else
+        ++size[m_part[v]];
     }
     return size;
   }

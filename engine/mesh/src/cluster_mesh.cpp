@@ -340,8 +340,8 @@ class ClusterMeshSetup {
 
 }  // namespace
 
-ClusterMesh setUpClusterMesh(const TriangleMesh& input, const RegionPartition& partition,
-                             const ClusterOptions& options, core::ThreadPool& pool) {
+ClusterMesh setUpClusterMesh(const TriangleMesh& input, const RegionPartition& partition, const ClusterOptions& options,
+                             core::ThreadPool& pool) {
   ClusterMesh mesh;
   ClusterMeshSetup(input, partition, options, pool, mesh).run();
   return mesh;

@@ -9,10 +9,10 @@
 #include <limits>
 #include <vector>
 
+#include "halves.hpp"
 #include "polder/mesh/cluster_builder.hpp"
 #include "polder/mesh/region_partition.hpp"
 #include "polder/mesh/triangle_mesh.hpp"
-#include "halves.hpp"
 #include "polder/thread_pool.hpp"
 #include "quadric.hpp"
 #include "triangle_fans.hpp"
@@ -87,7 +87,7 @@ struct ClusterMesh {
 // Part A's preprocessing of `input` (its vertices in locality order): every vertex
 // classified and given the quadric of its planes; cells start at tau0. Halves of the work
 // run as two halves on `pool`; the result does not depend on it.
-ClusterMesh setUpClusterMesh(const TriangleMesh& input, const RegionPartition& partition,
-                             const ClusterOptions& options, core::ThreadPool& pool);
+ClusterMesh setUpClusterMesh(const TriangleMesh& input, const RegionPartition& partition, const ClusterOptions& options,
+                             core::ThreadPool& pool);
 
 }  // namespace polder::mesh::cluster

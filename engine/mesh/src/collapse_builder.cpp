@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "builder_setup.hpp"
+#include "halves.hpp"
 #include "indexed_min_heap.hpp"
 #include "locality_order.hpp"
-#include "halves.hpp"
 #include "polder/thread_pool.hpp"
 #include "quadric.hpp"
 #include "step_listener.hpp"
@@ -50,13 +50,13 @@ enum class VertexKind : std::uint8_t {
 // across the whole mesh, so each of a collapse's few dozen vertex visits is a likely
 // cache miss: one per visit instead of one per table.
 struct alignas(64) VertexState {
-  glm::dvec3 position{0.0};       // translated and scaled to a unit diagonal
-  std::uint32_t target = kNone;   // the neighbour of its queued collapse
-  std::uint32_t mark = 0;         // stamps of the current gather or check
-  float areaScale = 0.0f;         // 1 / (cluster area)^kAreaExponent
+  glm::dvec3 position{0.0};      // translated and scaled to a unit diagonal
+  std::uint32_t target = kNone;  // the neighbour of its queued collapse
+  std::uint32_t mark = 0;        // stamps of the current gather or check
+  float areaScale = 0.0f;        // 1 / (cluster area)^kAreaExponent
   VertexKind kind = VertexKind::Interior;
   bool alive = true;
-  bool colourBorder = false;      // beside a colour discontinuity (classify)
+  bool colourBorder = false;  // beside a colour discontinuity (classify)
   Quadric quadric;
 };
 static_assert(sizeof(VertexState) == 128);
@@ -76,7 +76,7 @@ struct Neighbour {
 class CollapseBuilder {
  public:
   CollapseBuilder(const TriangleMesh& mesh, const RegionPartition& partition, const CollapseOptions& options,
-                 StepListener* listener, core::ThreadPool& pool)
+                  StepListener* listener, core::ThreadPool& pool)
       : m_mesh(mesh), m_partition(partition), m_options(options), m_listener(listener), m_pool(pool) {}
 
   SimplificationSteps run() {
@@ -275,8 +275,10 @@ class CollapseBuilder {
         const std::uint32_t x = m_corner[3 * t + k];
         if (x == v) continue;
         auto seen = std::find_if(out.begin(), out.end(), [x](const Neighbour& n) { return n.vertex == x; });
-        if (seen == out.end()) out.push_back({x, 1});
-        else ++seen->sharedTriangles;
+        if (seen == out.end())
+          out.push_back({x, 1});
+        else
+          ++seen->sharedTriangles;
       }
   }
 
@@ -291,8 +293,8 @@ class CollapseBuilder {
 
   // What classify needs of one fan; one per thread.
   struct FanScratch {
-    std::vector<Neighbour> neighbours;       // gatherNeighbours'
-    std::vector<std::uint32_t> chainFrom;    // neighbour slot -> fan entry it starts
+    std::vector<Neighbour> neighbours;     // gatherNeighbours'
+    std::vector<std::uint32_t> chainFrom;  // neighbour slot -> fan entry it starts
     std::vector<std::uint8_t> chainLedTo;
     // The place of neighbour x in `neighbours`.
     std::uint32_t slotOf(std::uint32_t x) const {
@@ -317,12 +319,14 @@ class CollapseBuilder {
     // pair and one more neighbour, and either is one consistently wound chain of
     // triangles. Anything else (bow-ties, pinches, fins, flipped triangles) stays put.
     VertexKind& kind = m_vertex[v].kind;
-    if (nonManifold) kind = VertexKind::Locked;
+    if (nonManifold)
+      kind = VertexKind::Locked;
     else if (borderEdges == 0 && neighbours.size() == triangles && fanIsOneChain(v, /*closed=*/true, scratch))
       kind = VertexKind::Interior;
     else if (borderEdges == 2 && neighbours.size() == triangles + 1 && fanIsOneChain(v, /*closed=*/false, scratch))
       kind = VertexKind::Border;
-    else kind = VertexKind::Locked;
+    else
+      kind = VertexKind::Locked;
     // A vertex beside a colour discontinuity holds the colour border: it may only slide
     // along it, onto another vertex of its own colour that is also beside the border.
     if (m_options.colourWeight > 0.0 && m_mesh.hasColours())
@@ -442,8 +446,8 @@ class CollapseBuilder {
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t a = m_corner[3 * t + k], b = m_corner[3 * t + (k + 1) % 3];
         if (a != v) continue;  // each boundary edge is added once, from its first vertex
-        const auto shared = std::find_if(m_neighbours.begin(), m_neighbours.end(),
-                                         [b](const Neighbour& n) { return n.vertex == b; });
+        const auto shared =
+            std::find_if(m_neighbours.begin(), m_neighbours.end(), [b](const Neighbour& n) { return n.vertex == b; });
         if (shared == m_neighbours.end() || shared->sharedTriangles != 1) continue;
         const glm::dvec3 &pa = m_vertex[a].position, &pb = m_vertex[b].position;
         const glm::dvec3 faceNormal = glm::cross(pb - pa, m_vertex[m_corner[3 * t + (k + 2) % 3]].position - pa);
@@ -516,7 +520,8 @@ class CollapseBuilder {
         m_optionScratch.push_back({cost, u});
       }
     }
-    if (validate) std::sort(m_optionScratch.begin(), m_optionScratch.end(), cheaper);
+    if (validate)
+      std::sort(m_optionScratch.begin(), m_optionScratch.end(), cheaper);
     else if (!m_optionScratch.empty())
       std::iter_swap(m_optionScratch.begin(),
                      std::min_element(m_optionScratch.begin(), m_optionScratch.end(), cheaper));
@@ -671,9 +676,10 @@ Result<SimplificationSteps> buildCollapseSteps(const TriangleMesh& mesh, const R
   if (!(options.normalWeight >= 0.0) || !(options.colourWeight >= 0.0) || !(options.uvWeight >= 0.0) ||
       !(options.boundaryWeight >= 0.0))
     return makeError(ErrorKind::InvalidArgument, "collapse builder: weights must be finite and >= 0");
-  return buildInLocalityOrder(mesh, partition, listener, [&](const TriangleMesh& ordered, const RegionPartition& regions) {
-    return CollapseBuilder(ordered, regions, options, listener, pool).run();
-  });
+  return buildInLocalityOrder(mesh, partition, listener,
+                              [&](const TriangleMesh& ordered, const RegionPartition& regions) {
+                                return CollapseBuilder(ordered, regions, options, listener, pool).run();
+                              });
 }
 
 }  // namespace polder::mesh

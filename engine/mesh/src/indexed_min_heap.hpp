@@ -29,8 +29,10 @@ class IndexedMinHeap {
     }
     const float old = m_heap[at].key;
     m_heap[at].key = key;
-    if (key < old) siftUp(at);
-    else siftDown(at);
+    if (key < old)
+      siftUp(at);
+    else
+      siftDown(at);
   }
 
   void clear() {
@@ -80,7 +82,8 @@ class IndexedMinHeap {
     for (;;) {
       std::uint32_t child = 2 * at + 1;
       if (child >= size) break;
-      if (child + 1 < size) child += std::uint32_t(m_heap[child + 1].key < m_heap[child].key);  // no branch: a coin toss
+      if (child + 1 < size)
+        child += std::uint32_t(m_heap[child + 1].key < m_heap[child].key);  // no branch: a coin toss
       if (!(m_heap[child].key < entry.key)) break;
       place(at, m_heap[child]);
       at = child;

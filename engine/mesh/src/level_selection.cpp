@@ -31,8 +31,10 @@ void levelsForTriangleBudget(const ProgressiveMesh& mesh, std::uint64_t triangle
   for (int i = 0; i < 64 && lo < hi; ++i) {
     const float mid = 0.5f * (lo + hi);
     if (mid <= lo || mid >= hi) break;
-    if (trianglesAtError(mesh, mid, levels) <= triangles) hi = mid;
-    else lo = mid;
+    if (trianglesAtError(mesh, mid, levels) <= triangles)
+      hi = mid;
+    else
+      lo = mid;
   }
   trianglesAtError(mesh, hi, levels);
 }

@@ -19,8 +19,10 @@ std::uint32_t RegionSequence::levelForTriangles(std::uint32_t triangles) const {
   if (trianglesAt(0) > triangles) return 0;
   while (lo < hi) {
     const std::uint32_t mid = lo + (hi - lo + 1) / 2;
-    if (trianglesAt(mid) <= triangles) lo = mid;
-    else hi = mid - 1;
+    if (trianglesAt(mid) <= triangles)
+      lo = mid;
+    else
+      hi = mid - 1;
   }
   return lo;
 }
@@ -30,16 +32,19 @@ std::uint32_t RegionSequence::levelForError(float error) const {
   std::uint32_t lo = 0, hi = levelCount();
   while (lo < hi) {
     const std::uint32_t mid = lo + (hi - lo) / 2;
-    if (errorAt(mid) <= error) hi = mid;
-    else lo = mid + 1;
+    if (errorAt(mid) <= error)
+      hi = mid;
+    else
+      lo = mid + 1;
   }
   return lo;
 }
 
 std::size_t RegionSequence::memoryBytes() const {
   return bytesOf(m_trianglesAfterSteps) + bytesOf(m_verticesAfterSteps) + bytesOf(m_errorAfterSteps) +
-         bytesOf(m_fullIndices) + bytesOf(m_foreignCorners) + bytesOf(m_borderVertices) + bytesOf(m_readers) + bytesOf(m_cornerChangeBegin) +
-         bytesOf(m_cornerChanges) + bytesOf(m_borderChangeBegin) + bytesOf(m_borderChanges);
+         bytesOf(m_fullIndices) + bytesOf(m_foreignCorners) + bytesOf(m_borderVertices) + bytesOf(m_readers) +
+         bytesOf(m_cornerChangeBegin) + bytesOf(m_cornerChanges) + bytesOf(m_borderChangeBegin) +
+         bytesOf(m_borderChanges);
 }
 
 std::size_t ProgressiveMesh::memoryBytes() const {

@@ -73,7 +73,8 @@ Status ProgressiveMeshAssembler::checkStep(std::uint32_t rep, std::span<const st
     if (v == rep || v == target || m_removalStep[v] != kNever)
       return fail("vertex " + std::to_string(v) + " is not active");
     if (m_removalStep[target] != kNever)
-      return fail("vertex " + std::to_string(v) + " goes onto vertex " + std::to_string(target) + ", which is not active");
+      return fail("vertex " + std::to_string(v) + " goes onto vertex " + std::to_string(target) +
+                  ", which is not active");
     if (m_partition.regionOf(v) != region || m_partition.regionOf(target) != region)
       return fail("joins vertices of two regions");
     m_removalStep[v] = s;
@@ -113,8 +114,7 @@ void ProgressiveMeshAssembler::collectTriangles() {
 }
 
 void ProgressiveMeshAssembler::replayStep(std::uint32_t region, std::uint32_t local,
-                                          std::span<const std::uint32_t> removed,
-                                          std::span<const std::uint32_t> onto) {
+                                          std::span<const std::uint32_t> removed, std::span<const std::uint32_t> onto) {
   std::vector<RecordedChange>& changes = m_recorded[region];
   const std::size_t changesBefore = changes.size();
   bool anyVanished = false;
@@ -192,7 +192,8 @@ void ProgressiveMeshAssembler::layOutVertices(ProgressiveMesh& out, Layout& layo
   const std::uint32_t regionCount = m_partition.regionCount;
   const auto vertexCount = static_cast<std::uint32_t>(m_mesh.vertexCount());
   std::vector<std::uint32_t> regionBucketBase(regionCount + 1, 0);
-  for (std::uint32_t r = 0; r < regionCount; ++r) regionBucketBase[r + 1] = regionBucketBase[r] + m_regionStepCount[r] + 1;
+  for (std::uint32_t r = 0; r < regionCount; ++r)
+    regionBucketBase[r + 1] = regionBucketBase[r] + m_regionStepCount[r] + 1;
   // Within a region: never removed first (bucket 0), then the last removed.
   auto vertexBucket = [&](std::uint32_t v) {
     const std::uint32_t r = m_partition.regionOf(v), key = removalKey(v);

@@ -43,10 +43,10 @@ class ProgressiveMeshAssembler {
 
   // finish()'s orders, shared by its halves.
   struct Layout {
-    std::vector<std::uint32_t> order;     // new vertex index -> original
-    std::vector<std::uint32_t> newIndex;  // original vertex -> new index
+    std::vector<std::uint32_t> order;                     // new vertex index -> original
+    std::vector<std::uint32_t> newIndex;                  // original vertex -> new index
     std::vector<std::vector<std::uint32_t>> trianglesOf;  // per region, in the input's order
-    std::vector<std::uint32_t> slotOf;    // triangle -> its first corner's slot in its region
+    std::vector<std::uint32_t> slotOf;                    // triangle -> its first corner's slot in its region
   };
   std::uint32_t removalKey(std::uint32_t v) const;
   void layOutVertices(ProgressiveMesh& out, Layout& layout) const;

@@ -68,7 +68,8 @@ class StepHandover final : public StepListener {
     bool start = false;
     {
       std::lock_guard lock(m_mutex);
-      if (m_ready.size() == 0) std::swap(m_ready, m_filling);
+      if (m_ready.size() == 0)
+        std::swap(m_ready, m_filling);
       else  // the assembler is behind
         for (std::size_t s = 0; s < m_filling.size(); ++s) m_ready.addCopyOf(m_filling, s);
       start = claimReplay();
@@ -101,8 +102,8 @@ class StepHandover final : public StepListener {
         std::swap(m_taken, m_ready);
       }
       for (std::size_t s = 0; s < m_taken.size() && m_status; ++s)
-        m_status = m_assembler.addStep(m_taken.representative[s], m_taken.removedBy(s), m_taken.ontoBy(s),
-                                       m_taken.error[s]);
+        m_status =
+            m_assembler.addStep(m_taken.representative[s], m_taken.removedBy(s), m_taken.ontoBy(s), m_taken.error[s]);
       m_taken.clear();
     }
   }

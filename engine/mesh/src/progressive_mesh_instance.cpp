@@ -69,7 +69,8 @@ void ProgressiveMeshInstance::resolveBorders() {
 
 // Whether the triangles holding the two slots have the same corners in the input (a
 // double-sided sheet modelled so): the input's own, not a fold to flatten.
-bool ProgressiveMeshInstance::backToBackInTheInput(std::uint32_t region, std::uint32_t slotX, std::uint32_t slotY) const {
+bool ProgressiveMeshInstance::backToBackInTheInput(std::uint32_t region, std::uint32_t slotX,
+                                                   std::uint32_t slotY) const {
   const std::span<const std::uint32_t> full = m_mesh->region(region).fullIndices();
   auto corners = [&](std::uint32_t slot) {
     const std::uint32_t t = slot / 3;

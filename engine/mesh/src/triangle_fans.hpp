@@ -62,8 +62,8 @@ class TriangleFans {
   void eraseIf(std::uint32_t v, const Drop& drop) {
     Record& record = m_record[v];
     if (record.count <= kInline) {
-      record.count = static_cast<std::uint32_t>(std::remove_if(record.triangles, record.triangles + record.count, drop) -
-                                                record.triangles);
+      record.count = static_cast<std::uint32_t>(
+          std::remove_if(record.triangles, record.triangles + record.count, drop) - record.triangles);
       return;
     }
     std::vector<std::uint32_t>& spilled = m_spilled[v];

@@ -87,8 +87,8 @@ Result<std::string> glbBytes(const mesh::TriangleMesh& mesh) {
   Section indices;
   indices.bytes.reserve(mesh.indices.size() * sizeof(std::uint32_t));
   for (const std::uint32_t index : mesh.indices) appendLittleEndian(indices.bytes, index);
-  indices.accessor = ",\"componentType\":" + std::to_string(kUnsignedInt) + ",\"count\":" + std::to_string(mesh.indices.size()) +
-                     ",\"type\":\"SCALAR\"";
+  indices.accessor = ",\"componentType\":" + std::to_string(kUnsignedInt) +
+                     ",\"count\":" + std::to_string(mesh.indices.size()) + ",\"type\":\"SCALAR\"";
   indices.target = kElementArrayBuffer;
   sections.push_back(std::move(indices));
 
@@ -98,16 +98,18 @@ Result<std::string> glbBytes(const mesh::TriangleMesh& mesh) {
   if (binaryBytes + 28 + 4096 + 512 * sections.size() > std::numeric_limits<std::uint32_t>::max())
     return makeError(ErrorKind::Unsupported, "the mesh is too large for a .glb (4 GiB at most)");
 
-  std::string json = "{\"asset\":{\"version\":\"2.0\",\"generator\":\"Polder\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
-                     "\"nodes\":[{\"mesh\":0,\"rotation\":[-0.70710678,0,0,0.70710678]}],"
-                     "\"meshes\":[{\"primitives\":[{\"attributes\":{" + attributes + "},\"indices\":" +
-                     std::to_string(indexAccessor) + ",\"mode\":4}]}],";
+  std::string json =
+      "{\"asset\":{\"version\":\"2.0\",\"generator\":\"Polder\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+      "\"nodes\":[{\"mesh\":0,\"rotation\":[-0.70710678,0,0,0.70710678]}],"
+      "\"meshes\":[{\"primitives\":[{\"attributes\":{" +
+      attributes + "},\"indices\":" + std::to_string(indexAccessor) + ",\"mode\":4}]}],";
   json += "\"buffers\":[{\"byteLength\":" + std::to_string(binaryBytes) + "}],\"bufferViews\":[";
   std::uint64_t offset = 0;
   for (std::size_t s = 0; s < sections.size(); ++s) {
     if (s > 0) json += ',';
-    json += "{\"buffer\":0,\"byteOffset\":" + std::to_string(offset) + ",\"byteLength\":" +
-            std::to_string(sections[s].bytes.size()) + ",\"target\":" + std::to_string(sections[s].target) + "}";
+    json += "{\"buffer\":0,\"byteOffset\":" + std::to_string(offset) +
+            ",\"byteLength\":" + std::to_string(sections[s].bytes.size()) +
+            ",\"target\":" + std::to_string(sections[s].target) + "}";
     offset += sections[s].bytes.size();
   }
   json += "],\"accessors\":[";

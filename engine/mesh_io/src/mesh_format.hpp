@@ -19,8 +19,8 @@ inline Result<MeshFormat> meshFormatOf(const std::filesystem::path& file, bool w
   if (extension == ".obj") return MeshFormat::Obj;
   if (extension == ".ply") return MeshFormat::Ply;
   if (writing && extension == ".glb") return MeshFormat::Glb;
-  return makeError(ErrorKind::Unsupported, "unsupported mesh format '" + extension + "' (expected .obj, .ply" +
-                                               (writing ? ", .glb)" : ")"));
+  return makeError(ErrorKind::Unsupported,
+                   "unsupported mesh format '" + extension + "' (expected .obj, .ply" + (writing ? ", .glb)" : ")"));
 }
 
 }  // namespace polder::mesh_io::detail

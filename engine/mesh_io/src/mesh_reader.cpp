@@ -1,11 +1,11 @@
 // readMesh: our structure checks, then Assimp, then merging, baking, welding and normals.
 #include <polder/mesh_io/mesh_file.hpp>
 
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
 #include <assimp/IOStream.hpp>
 #include <assimp/IOSystem.hpp>
 #include <assimp/Importer.hpp>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
 
 #include <cassert>
 #include <cerrno>
@@ -47,8 +47,8 @@ Result<std::string> readWholeFile(const std::filesystem::path& file) {
   }
   in.read(bytes.data(), std::streamsize(bytes.size()));
   if (std::uintmax_t(in.gcount()) != size)
-    return makeError(ErrorKind::Io, "could read only " + std::to_string(in.gcount()) + " of its " +
-                                        std::to_string(size) + " bytes");
+    return makeError(ErrorKind::Io,
+                     "could read only " + std::to_string(in.gcount()) + " of its " + std::to_string(size) + " bytes");
   return bytes;
 }
 
@@ -93,7 +93,7 @@ Result<mesh::TriangleMesh> mergeMeshes(const aiScene& scene) {
       if (anyColours) {
         const aiColor4D c = part->HasVertexColors(0) ? part->mColors[0][i] : aiColor4D(1.0f, 1.0f, 1.0f, 1.0f);
         merged.colours.emplace_back(detail::unitColour(c.r), detail::unitColour(c.g), detail::unitColour(c.b),
-                                     detail::unitColour(c.a));
+                                    detail::unitColour(c.a));
       }
       if (anyUvs) {
         const aiVector3D t = part->HasTextureCoords(0) ? part->mTextureCoords[0][i] : aiVector3D(0.0f);
@@ -138,11 +138,14 @@ Result<mesh::TriangleMesh> importWithAssimp(const std::string& bytes, MeshFormat
     // Read without post-processing first, so the indices can be checked before
     // triangulation uses them. No aiProcess_JoinIdenticalVertices: it merges positions up
     // to an epsilon and treats NaN as equal to anything (see vertex_merge.hpp instead).
-    const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, format == MeshFormat::Obj ? "obj" : "ply");
-    if (!scene) return makeError(ErrorKind::InvalidData, "Assimp cannot read it: " + oneLine(importer.GetErrorString()));
+    const aiScene* scene =
+        importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, format == MeshFormat::Obj ? "obj" : "ply");
+    if (!scene)
+      return makeError(ErrorKind::InvalidData, "Assimp cannot read it: " + oneLine(importer.GetErrorString()));
     if (Status indices = checkFaceIndices(*scene); !indices) return indices.error();
     scene = importer.ApplyPostProcessing(aiProcess_Triangulate);
-    if (!scene) return makeError(ErrorKind::InvalidData, "Assimp cannot triangulate it: " + oneLine(importer.GetErrorString()));
+    if (!scene)
+      return makeError(ErrorKind::InvalidData, "Assimp cannot triangulate it: " + oneLine(importer.GetErrorString()));
     return mergeMeshes(*scene);
   } catch (const std::bad_alloc&) {
     return makeError(ErrorKind::OutOfMemory, "not enough memory to import it");

@@ -49,13 +49,14 @@ void appendFloats(std::string& out, std::initializer_list<float> values) {
 std::string objText(const TriangleMesh& mesh) {
   std::string out;
   out.reserve(mesh.vertexCount() * 80 + mesh.triangleCount() * 40);
-  out += "# Polder mesh: " + std::to_string(mesh.vertexCount()) + " vertices, " +
-         std::to_string(mesh.triangleCount()) + " triangles\n";
+  out += "# Polder mesh: " + std::to_string(mesh.vertexCount()) + " vertices, " + std::to_string(mesh.triangleCount()) +
+         " triangles\n";
   for (std::size_t i = 0; i < mesh.vertexCount(); ++i) {
     const glm::vec3& p = mesh.positions[i];
     out += 'v';
     appendFloats(out, {p.x, p.y, p.z});
-    if (mesh.hasColours()) appendFloats(out, {mesh.colours[i].r, mesh.colours[i].g, mesh.colours[i].b});  // OBJ has no alpha
+    if (mesh.hasColours())
+      appendFloats(out, {mesh.colours[i].r, mesh.colours[i].g, mesh.colours[i].b});  // OBJ has no alpha
     out += '\n';
   }
   for (const glm::vec2& uv : mesh.uvs) {
@@ -94,7 +95,8 @@ std::string plyText(const TriangleMesh& mesh, bool binary) {
   if (mesh.hasNormals()) out += "property float nx\nproperty float ny\nproperty float nz\n";
   if (mesh.hasColours()) out += "property float red\nproperty float green\nproperty float blue\nproperty float alpha\n";
   if (mesh.hasUvs()) out += "property float s\nproperty float t\n";
-  out += "element face " + std::to_string(mesh.triangleCount()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  out +=
+      "element face " + std::to_string(mesh.triangleCount()) + "\nproperty list uchar int vertex_indices\nend_header\n";
 
   std::vector<float> values;
   for (std::size_t i = 0; i < mesh.vertexCount(); ++i) {
@@ -184,7 +186,8 @@ Status checkWritable(const TriangleMesh& mesh, const std::string& name) {
   return {};
 }
 
-Status writeMeshUnguarded(const std::filesystem::path& file, const TriangleMesh& mesh, const MeshWriteOptions& options) {
+Status writeMeshUnguarded(const std::filesystem::path& file, const TriangleMesh& mesh,
+                          const MeshWriteOptions& options) {
   const std::string name = file.string();
   const Result<detail::MeshFormat> format = detail::meshFormatOf(file, true);
   if (!format) return makeError(format.error().kind, name + ": " + format.error().message);

@@ -27,8 +27,8 @@ struct IndexedData {
     if (*index == 0) return malformed(lineNumber, std::string(what) + " index 0 (OBJ counts from 1)");
     if (*index < 0) {
       if (-*index > defined)
-        return malformed(lineNumber, std::string(what) + " index " + std::to_string(*index) + " reaches before the first of " +
-                                         std::to_string(defined));
+        return malformed(lineNumber, std::string(what) + " index " + std::to_string(*index) +
+                                         " reaches before the first of " + std::to_string(defined));
     } else if (*index > largestReference) {
       largestReference = *index;
       largestReferenceLine = lineNumber;
@@ -102,7 +102,8 @@ Result<std::string> normalizeObj(std::string_view bytes) {
       if (Status numbers = checkNumbers(tokens, firstLine); !numbers) return numbers.error();
       const std::size_t count = tokens.size() - 1;
       if (count != 3 && count != 4 && count != 6)
-        return malformed(firstLine, "a vertex needs 3, 4 (x y z w) or 6 (x y z r g b) numbers, not " + std::to_string(count));
+        return malformed(firstLine,
+                         "a vertex needs 3, 4 (x y z w) or 6 (x y z r g b) numbers, not " + std::to_string(count));
       (count == 6 ? colouredLine : plainLine) = firstLine;
       if (colouredLine != 0 && plainLine != 0)
         return malformed(firstLine, "vertex colours on some 'v' lines only (line " + std::to_string(colouredLine) +
@@ -111,11 +112,13 @@ Result<std::string> normalizeObj(std::string_view bytes) {
     } else if (keyword == "vt") {
       if (Status numbers = checkNumbers(tokens, firstLine); !numbers) return numbers.error();
       if (tokens.size() != 3 && tokens.size() != 4)
-        return malformed(firstLine, "a texture coordinate needs 2 or 3 numbers, not " + std::to_string(tokens.size() - 1));
+        return malformed(firstLine,
+                         "a texture coordinate needs 2 or 3 numbers, not " + std::to_string(tokens.size() - 1));
       ++uvs.defined;
     } else if (keyword == "vn") {
       if (Status numbers = checkNumbers(tokens, firstLine); !numbers) return numbers.error();
-      if (tokens.size() != 4) return malformed(firstLine, "a normal needs 3 numbers, not " + std::to_string(tokens.size() - 1));
+      if (tokens.size() != 4)
+        return malformed(firstLine, "a normal needs 3 numbers, not " + std::to_string(tokens.size() - 1));
       ++normals.defined;
     } else if (keyword == "f") {
       for (std::size_t i = 1; i < tokens.size(); ++i) {
@@ -128,7 +131,8 @@ Result<std::string> normalizeObj(std::string_view bytes) {
           parts[partCount++] = corner.substr(0, slash);
           if (slash == std::string_view::npos) break;
           corner.remove_prefix(slash + 1);
-          if (partCount == 3) return malformed(firstLine, "face corner " + quoted(tokens[i]) + " has more than three parts");
+          if (partCount == 3)
+            return malformed(firstLine, "face corner " + quoted(tokens[i]) + " has more than three parts");
         }
         if (Status v = positions.reference(parts[0], firstLine); !v) return v.error();
         if (partCount >= 2 && !(partCount == 3 && parts[1].empty()))

@@ -16,8 +16,8 @@ enum class PlyFormat { Ascii, BinaryLittleEndian, BinaryBigEndian };
 
 struct PlyProperty {
   std::string name;
-  int valueSize = 0;       // bytes of a scalar, or of each list entry
-  int countSize = 0;       // bytes of the list length; 0 for a scalar
+  int valueSize = 0;  // bytes of a scalar, or of each list entry
+  int countSize = 0;  // bytes of the list length; 0 for a scalar
   bool countSigned = false;
 };
 
@@ -74,8 +74,8 @@ Result<PlyHeader> parseHeader(std::string_view bytes) {
   std::size_t position = 0;
   for (int lineNumber = 1;; ++lineNumber) {
     if (position >= bytes.size())
-      return truncated("the header has no end_header line (the file ends at header line " +
-                       std::to_string(lineNumber) + ")");
+      return truncated("the header has no end_header line (the file ends at header line " + std::to_string(lineNumber) +
+                       ")");
     const auto [lineEnd, next] = lineAt(bytes, position);
     splitTokens(bytes.substr(position, lineEnd - position), tokens);
     position = next;
@@ -97,10 +97,14 @@ Result<PlyHeader> parseHeader(std::string_view bytes) {
     }
     if (keyword == "format") {
       if (tokens.size() != 3) return malformed(where + "expected 'format <type> 1.0'");
-      if (tokens[1] == "ascii") header.format = PlyFormat::Ascii;
-      else if (tokens[1] == "binary_little_endian") header.format = PlyFormat::BinaryLittleEndian;
-      else if (tokens[1] == "binary_big_endian") header.format = PlyFormat::BinaryBigEndian;
-      else return malformed(where + "unknown format " + quoted(tokens[1]));
+      if (tokens[1] == "ascii")
+        header.format = PlyFormat::Ascii;
+      else if (tokens[1] == "binary_little_endian")
+        header.format = PlyFormat::BinaryLittleEndian;
+      else if (tokens[1] == "binary_big_endian")
+        header.format = PlyFormat::BinaryBigEndian;
+      else
+        return malformed(where + "unknown format " + quoted(tokens[1]));
       sawFormat = true;
     } else if (keyword == "element") {
       if (tokens.size() != 3) return malformed(where + "expected 'element <name> <count>'");
@@ -115,7 +119,8 @@ Result<PlyHeader> parseHeader(std::string_view bytes) {
         if (property.valueSize == 0) return malformed(where + "unknown property type " + quoted(tokens[1]));
         property.name = tokens[2];
       } else if (tokens.size() == 5 && tokens[1] == "list") {
-        if (!isInteger(tokens[2])) return malformed(where + "list length type " + quoted(tokens[2]) + " is not an integer type");
+        if (!isInteger(tokens[2]))
+          return malformed(where + "list length type " + quoted(tokens[2]) + " is not an integer type");
         property.countSize = typeSize(tokens[2]);
         property.countSigned = isSignedInteger(tokens[2]);
         property.valueSize = typeSize(tokens[3]);
@@ -139,7 +144,8 @@ std::string itemName(const PlyElement& element, std::uint64_t item) {
 std::int64_t readCount(const unsigned char* bytes, int size, bool bigEndian, bool isSigned) {
   std::uint64_t value = 0;
   for (int i = 0; i < size; ++i) value |= std::uint64_t(bytes[bigEndian ? size - 1 - i : i]) << (8 * i);
-  if (isSigned && size < 8 && (value >> (8 * size - 1)) != 0) return std::int64_t(value) - (std::int64_t(1) << (8 * size));
+  if (isSigned && size < 8 && (value >> (8 * size - 1)) != 0)
+    return std::int64_t(value) - (std::int64_t(1) << (8 * size));
   return std::int64_t(value);
 }
 
@@ -156,8 +162,7 @@ Status walkBinary(std::string_view bytes, const PlyHeader& header) {
       for (const PlyProperty& property : element.properties) stride += std::uint64_t(property.valueSize);
       if (stride == 0) continue;
       const std::uint64_t available = (size - position) / stride;
-      if (available < element.count)
-        return truncated("the data ends in " + itemName(element, available));
+      if (available < element.count) return truncated("the data ends in " + itemName(element, available));
       position += element.count * stride;
       continue;
     }
@@ -165,7 +170,8 @@ Status walkBinary(std::string_view bytes, const PlyHeader& header) {
       for (const PlyProperty& property : element.properties) {
         std::uint64_t length = std::uint64_t(property.valueSize);
         if (property.countSize != 0) {
-          if (size - position < std::uint64_t(property.countSize)) return truncated("the data ends in " + itemName(element, item));
+          if (size - position < std::uint64_t(property.countSize))
+            return truncated("the data ends in " + itemName(element, item));
           const std::int64_t count = readCount(data + position, property.countSize, bigEndian, property.countSigned);
           if (count < 0)
             return malformed(itemName(element, item) + " has a negative list length " + std::to_string(count));
@@ -185,7 +191,8 @@ Status walkAscii(std::string_view bytes, const PlyHeader& header) {
   std::size_t position = header.bodyOffset;
   // Whether only white space follows `from`: a short line there means the file was cut.
   const auto onlyBlankAfter = [&](std::size_t from) {
-    return std::all_of(bytes.begin() + std::ptrdiff_t(from), bytes.end(), [](char c) { return isBlank(c) || c == '\n'; });
+    return std::all_of(bytes.begin() + std::ptrdiff_t(from), bytes.end(),
+                       [](char c) { return isBlank(c) || c == '\n'; });
   };
   for (const PlyElement& element : header.elements) {
     // Assimp reads one item per line (skipping blank lines); items spread over several lines

@@ -34,7 +34,8 @@ Result<std::vector<glm::vec4>> sampleTexture(const std::filesystem::path& image,
   std::error_code code;
   const auto status = std::filesystem::status(image, code);
   if (!std::filesystem::is_regular_file(status))
-    return imageError(image, ErrorKind::Io, std::filesystem::exists(status) ? "not a regular file" : "the file does not exist");
+    return imageError(image, ErrorKind::Io,
+                      std::filesystem::exists(status) ? "not a regular file" : "the file does not exist");
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // colours as painted, not premultiplied by alpha
   std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::open(image.string(), &config);

@@ -72,28 +72,34 @@ void applyGroups(mesh::TriangleMesh& mesh, const std::vector<std::uint32_t>& rem
 
 void joinIdenticalVertices(mesh::TriangleMesh& mesh) {
   std::uint32_t groupCount = 0;
-  const auto remap = groupByKey<12>(mesh.vertexCount(), [&](std::size_t i) {
-    Key<12> key{};
-    std::size_t at = 0;
-    for (int k = 0; k < 3; ++k) put(key, at, mesh.positions[i][k]);
-    for (int k = 0; k < 3; ++k) put(key, at, mesh.hasNormals() ? mesh.normals[i][k] : 0.0f);
-    for (int k = 0; k < 4; ++k) put(key, at, mesh.hasColours() ? mesh.colours[i][k] : 0.0f);
-    for (int k = 0; k < 2; ++k) put(key, at, mesh.hasUvs() ? mesh.uvs[i][k] : 0.0f);
-    return key;
-  }, groupCount);
+  const auto remap = groupByKey<12>(
+      mesh.vertexCount(),
+      [&](std::size_t i) {
+        Key<12> key{};
+        std::size_t at = 0;
+        for (int k = 0; k < 3; ++k) put(key, at, mesh.positions[i][k]);
+        for (int k = 0; k < 3; ++k) put(key, at, mesh.hasNormals() ? mesh.normals[i][k] : 0.0f);
+        for (int k = 0; k < 4; ++k) put(key, at, mesh.hasColours() ? mesh.colours[i][k] : 0.0f);
+        for (int k = 0; k < 2; ++k) put(key, at, mesh.hasUvs() ? mesh.uvs[i][k] : 0.0f);
+        return key;
+      },
+      groupCount);
   if (groupCount != mesh.vertexCount()) applyGroups(mesh, remap, groupCount, false);
 }
 
 void weldPositions(mesh::TriangleMesh& mesh, bool keepUvSeams) {
   std::uint32_t groupCount = 0;
   const bool byUvs = keepUvSeams && mesh.hasUvs();
-  const auto remap = groupByKey<5>(mesh.vertexCount(), [&](std::size_t i) {
-    Key<5> key{};
-    std::size_t at = 0;
-    for (int k = 0; k < 3; ++k) put(key, at, mesh.positions[i][k]);
-    for (int k = 0; k < 2; ++k) put(key, at, byUvs ? mesh.uvs[i][k] : 0.0f);
-    return key;
-  }, groupCount);
+  const auto remap = groupByKey<5>(
+      mesh.vertexCount(),
+      [&](std::size_t i) {
+        Key<5> key{};
+        std::size_t at = 0;
+        for (int k = 0; k < 3; ++k) put(key, at, mesh.positions[i][k]);
+        for (int k = 0; k < 2; ++k) put(key, at, byUvs ? mesh.uvs[i][k] : 0.0f);
+        return key;
+      },
+      groupCount);
   if (groupCount != mesh.vertexCount()) applyGroups(mesh, remap, groupCount, true);
   // Drop triangles that repeat a vertex (welded, or already so in the file).
   std::size_t kept = 0;
@@ -108,4 +114,3 @@ void weldPositions(mesh::TriangleMesh& mesh, bool keepUvSeams) {
 }
 
 }  // namespace polder::mesh_io::detail
-

@@ -88,11 +88,12 @@ Result<std::unique_ptr<ClosestPointScene>> ClosestPointScene::create(std::span<c
   const std::size_t triangleCount = indices.size() / 3;
   impl->corners.resize(triangleCount);
   for (std::size_t t = 0; t < triangleCount; ++t) {
-    for (int k = 0; k < 3; ++k) impl->corners[t][std::size_t(k)] = glm::dvec3(positions[indices[3 * t + std::size_t(k)]]);
+    for (int k = 0; k < 3; ++k)
+      impl->corners[t][std::size_t(k)] = glm::dvec3(positions[indices[3 * t + std::size_t(k)]]);
   }
   for (const glm::vec3& p : positions) {
-    impl->largestCoordinate = std::max({impl->largestCoordinate, double(std::abs(p.x)), double(std::abs(p.y)),
-                                        double(std::abs(p.z))});
+    impl->largestCoordinate =
+        std::max({impl->largestCoordinate, double(std::abs(p.x)), double(std::abs(p.y)), double(std::abs(p.z))});
   }
 
   auto device = newDevice(buildThreads, impl->monitor);
@@ -138,8 +139,8 @@ std::optional<ClosestTriangle> ClosestPointScene::closest(const glm::dvec3& poin
   query.time = 0.0f;
   // float() of a double past float's range is undefined; such a bound prunes nothing anyway.
   const double radius = within + search.slack;
-  query.radius = radius < double(std::numeric_limits<float>::max()) ? float(radius)
-                                                                     : std::numeric_limits<float>::infinity();
+  query.radius =
+      radius < double(std::numeric_limits<float>::max()) ? float(radius) : std::numeric_limits<float>::infinity();
   RTCPointQueryContext context;
   rtcInitPointQueryContext(&context);
   rtcPointQuery(m_impl->scene, &query, &context, onCandidate, &search);

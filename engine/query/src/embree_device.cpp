@@ -9,22 +9,33 @@ namespace {
 
 ErrorKind errorKindOf(RTCError code) {
   switch (code) {
-    case RTC_ERROR_OUT_OF_MEMORY: return ErrorKind::OutOfMemory;
-    case RTC_ERROR_INVALID_ARGUMENT: return ErrorKind::InvalidArgument;
-    case RTC_ERROR_UNSUPPORTED_CPU: return ErrorKind::Unsupported;
-    default: return ErrorKind::Environment;
+    case RTC_ERROR_OUT_OF_MEMORY:
+      return ErrorKind::OutOfMemory;
+    case RTC_ERROR_INVALID_ARGUMENT:
+      return ErrorKind::InvalidArgument;
+    case RTC_ERROR_UNSUPPORTED_CPU:
+      return ErrorKind::Unsupported;
+    default:
+      return ErrorKind::Environment;
   }
 }
 
 const char* errorName(RTCError code) {
   switch (code) {
-    case RTC_ERROR_NONE: return "no error";
-    case RTC_ERROR_UNKNOWN: return "unknown error";
-    case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
-    case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
-    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
-    case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
-    case RTC_ERROR_CANCELLED: return "cancelled";
+    case RTC_ERROR_NONE:
+      return "no error";
+    case RTC_ERROR_UNKNOWN:
+      return "unknown error";
+    case RTC_ERROR_INVALID_ARGUMENT:
+      return "invalid argument";
+    case RTC_ERROR_INVALID_OPERATION:
+      return "invalid operation";
+    case RTC_ERROR_OUT_OF_MEMORY:
+      return "out of memory";
+    case RTC_ERROR_UNSUPPORTED_CPU:
+      return "unsupported CPU";
+    case RTC_ERROR_CANCELLED:
+      return "cancelled";
   }
   return "unrecognised error";
 }

@@ -20,7 +20,8 @@ FrameCracks findFrameCracks(const RgbaImage& image, const QueryScene& frameMesh,
       if (!isEnclosedBackground(image, x, y)) continue;
       ++found.enclosedBackground;
       bool covered = true;
-      const double offsets[5][2] = {{0.0, 0.0}, {-kMarginPx, 0.0}, {kMarginPx, 0.0}, {0.0, -kMarginPx}, {0.0, kMarginPx}};
+      const double offsets[5][2] = {
+          {0.0, 0.0}, {-kMarginPx, 0.0}, {kMarginPx, 0.0}, {0.0, -kMarginPx}, {0.0, kMarginPx}};
       for (const auto& offset : offsets) {
         const glm::dvec3 direction = camera.pixelRay(x + 0.5 + offset[0], y + 0.5 + offset[1]);
         covered = covered && frameMesh.raycast(camera.position, direction, camera.farM).has_value();

@@ -56,7 +56,7 @@ struct Surface {
 struct Sample {
   glm::dvec3 point{0.0};
   std::uint32_t triangle = 0;
-  glm::dvec3 weights{1.0, 0.0, 0.0};  // barycentric, of the triangle's corners
+  glm::dvec3 weights{1.0, 0.0, 0.0};    // barycentric, of the triangle's corners
   std::optional<std::uint32_t> vertex;  // set for vertex samples
 };
 
@@ -115,7 +115,8 @@ Sample sampleOf(const Surface& surface, std::size_t i) {
 glm::dvec3 colourAt(const mesh::TriangleMesh& mesh, std::uint32_t triangle, const glm::dvec3& weights) {
   glm::dvec3 colour(0.0);
   for (int k = 0; k < 3; ++k) {
-    colour += weights[k] * glm::dvec3(glm::vec3(mesh.colours[mesh.indices[3 * std::size_t(triangle) + std::size_t(k)]]));
+    colour +=
+        weights[k] * glm::dvec3(glm::vec3(mesh.colours[mesh.indices[3 * std::size_t(triangle) + std::size_t(k)]]));
   }
   return colour;
 }
@@ -144,8 +145,8 @@ struct ChunkSums {
 Status checkMesh(const mesh::TriangleMesh& mesh, const char* what) {
   if (Status status = mesh::validateMesh(mesh, what); !status) return status;
   if (mesh.indices.empty()) {
-    return makeError(ErrorKind::InvalidArgument, std::string("measureSurfaceDeviation: the ") + what +
-                                                     " has no triangles");
+    return makeError(ErrorKind::InvalidArgument,
+                     std::string("measureSurfaceDeviation: the ") + what + " has no triangles");
   }
   return {};
 }
@@ -169,8 +170,8 @@ Result<SurfaceDeviation> measureSurfaceDeviation(const mesh::TriangleMesh& origi
 
   std::unique_ptr<detail::ClosestPointScene> scenes[2];
   for (int s = 0; s < 2; ++s) {
-    auto scene = detail::ClosestPointScene::create(surfaces[s].mesh->positions, surfaces[s].mesh->indices,
-                                                   options.threads);
+    auto scene =
+        detail::ClosestPointScene::create(surfaces[s].mesh->positions, surfaces[s].mesh->indices, options.threads);
     if (!scene) return scene.error();
     scenes[s] = std::move(*scene);
   }
@@ -209,8 +210,8 @@ Result<SurfaceDeviation> measureSurfaceDeviation(const mesh::TriangleMesh& origi
         sums.maxDistanceSquared = std::max(sums.maxDistanceSquared, closest->distanceSquared);
         sums.distanceSquared += closest->distanceSquared;
         if (colours && from == 0) {
-          const glm::dvec3 difference = colourAt(original, sample) -
-                                        colourAt(simplified, closest->triangle, closest->closest.weights);
+          const glm::dvec3 difference =
+              colourAt(original, sample) - colourAt(simplified, closest->triangle, closest->closest.weights);
           sums.colourSquared += glm::dot(difference, difference);
         }
       }

@@ -19,10 +19,18 @@ GlObject& GlObject::operator=(GlObject&& other) noexcept {
 void GlObject::reset() {
   if (m_id == 0 || m_gl == nullptr) return;
   switch (m_kind) {
-    case GlObjectKind::Buffer: m_gl->DeleteBuffers(1, &m_id); break;
-    case GlObjectKind::VertexArray: m_gl->DeleteVertexArrays(1, &m_id); break;
-    case GlObjectKind::Shader: m_gl->DeleteShader(m_id); break;
-    case GlObjectKind::Program: m_gl->DeleteProgram(m_id); break;
+    case GlObjectKind::Buffer:
+      m_gl->DeleteBuffers(1, &m_id);
+      break;
+    case GlObjectKind::VertexArray:
+      m_gl->DeleteVertexArrays(1, &m_id);
+      break;
+    case GlObjectKind::Shader:
+      m_gl->DeleteShader(m_id);
+      break;
+    case GlObjectKind::Program:
+      m_gl->DeleteProgram(m_id);
+      break;
   }
   m_id = 0;
 }
@@ -62,8 +70,7 @@ std::string programLog(const GladGLContext& gl, GLuint program) {
   return infoLog(program, gl.GetProgramiv, gl.GetProgramInfoLog);
 }
 
-Result<GlObject> compileShader(const GladGLContext& gl, GLenum stage, std::string_view source,
-                               std::string_view name) {
+Result<GlObject> compileShader(const GladGLContext& gl, GLenum stage, std::string_view source, std::string_view name) {
   GlObject shader(&gl, GlObjectKind::Shader, gl.CreateShader(stage));
   if (!shader) {
     return makeError(ErrorKind::Environment, "glCreateShader failed for " + std::string(name));
@@ -84,8 +91,8 @@ Result<GlObject> compileShader(const GladGLContext& gl, GLenum stage, std::strin
 
 }  // namespace
 
-Result<GlObject> compileProgram(const GladGLContext& gl, std::string_view vertexSource,
-                                std::string_view fragmentSource, std::string_view name) {
+Result<GlObject> compileProgram(const GladGLContext& gl, std::string_view vertexSource, std::string_view fragmentSource,
+                                std::string_view name) {
   auto vertex = compileShader(gl, GL_VERTEX_SHADER, vertexSource, name);
   if (!vertex) return vertex.error();
   auto fragment = compileShader(gl, GL_FRAGMENT_SHADER, fragmentSource, name);
@@ -109,32 +116,57 @@ Result<GlObject> compileProgram(const GladGLContext& gl, std::string_view vertex
 }
 
 std::string firstMissingFunction(const GladGLContext& gl) {
-#define POLDER_GL_ENTRY(name) std::pair<const char*, bool>{"gl" #name, gl.name != nullptr}
+#define POLDER_GL_ENTRY(name) \
+  std::pair<const char*, bool> { "gl" #name, gl.name != nullptr }
   const std::array required = {
-      POLDER_GL_ENTRY(GetString),         POLDER_GL_ENTRY(GetError),
-      POLDER_GL_ENTRY(GetIntegerv),       POLDER_GL_ENTRY(Viewport),
-      POLDER_GL_ENTRY(ClearColor),        POLDER_GL_ENTRY(ClearDepth),
-      POLDER_GL_ENTRY(Clear),             POLDER_GL_ENTRY(Enable),
-      POLDER_GL_ENTRY(Disable),           POLDER_GL_ENTRY(DepthFunc),
-      POLDER_GL_ENTRY(DepthMask),         POLDER_GL_ENTRY(ColorMask),
-      POLDER_GL_ENTRY(CullFace),          POLDER_GL_ENTRY(FrontFace),
-      POLDER_GL_ENTRY(PolygonMode),       POLDER_GL_ENTRY(PolygonOffset),
-      POLDER_GL_ENTRY(GenBuffers),        POLDER_GL_ENTRY(DeleteBuffers),
-      POLDER_GL_ENTRY(BindBuffer),        POLDER_GL_ENTRY(BufferData),
-      POLDER_GL_ENTRY(MapBufferRange),    POLDER_GL_ENTRY(UnmapBuffer),
-      POLDER_GL_ENTRY(GenVertexArrays),   POLDER_GL_ENTRY(DeleteVertexArrays),
-      POLDER_GL_ENTRY(BindVertexArray),   POLDER_GL_ENTRY(EnableVertexAttribArray),
-      POLDER_GL_ENTRY(VertexAttribPointer), POLDER_GL_ENTRY(CreateShader),
-      POLDER_GL_ENTRY(ShaderSource),      POLDER_GL_ENTRY(CompileShader),
-      POLDER_GL_ENTRY(GetShaderiv),       POLDER_GL_ENTRY(GetShaderInfoLog),
-      POLDER_GL_ENTRY(DeleteShader),      POLDER_GL_ENTRY(CreateProgram),
-      POLDER_GL_ENTRY(AttachShader),      POLDER_GL_ENTRY(DetachShader),
-      POLDER_GL_ENTRY(LinkProgram),       POLDER_GL_ENTRY(GetProgramiv),
-      POLDER_GL_ENTRY(GetProgramInfoLog), POLDER_GL_ENTRY(DeleteProgram),
-      POLDER_GL_ENTRY(UseProgram),        POLDER_GL_ENTRY(GetUniformLocation),
-      POLDER_GL_ENTRY(Uniform1f),         POLDER_GL_ENTRY(Uniform3fv),
-      POLDER_GL_ENTRY(UniformMatrix4fv),  POLDER_GL_ENTRY(DrawElementsBaseVertex),
-      POLDER_GL_ENTRY(ReadPixels),        POLDER_GL_ENTRY(PixelStorei),
+      POLDER_GL_ENTRY(GetString),
+      POLDER_GL_ENTRY(GetError),
+      POLDER_GL_ENTRY(GetIntegerv),
+      POLDER_GL_ENTRY(Viewport),
+      POLDER_GL_ENTRY(ClearColor),
+      POLDER_GL_ENTRY(ClearDepth),
+      POLDER_GL_ENTRY(Clear),
+      POLDER_GL_ENTRY(Enable),
+      POLDER_GL_ENTRY(Disable),
+      POLDER_GL_ENTRY(DepthFunc),
+      POLDER_GL_ENTRY(DepthMask),
+      POLDER_GL_ENTRY(ColorMask),
+      POLDER_GL_ENTRY(CullFace),
+      POLDER_GL_ENTRY(FrontFace),
+      POLDER_GL_ENTRY(PolygonMode),
+      POLDER_GL_ENTRY(PolygonOffset),
+      POLDER_GL_ENTRY(GenBuffers),
+      POLDER_GL_ENTRY(DeleteBuffers),
+      POLDER_GL_ENTRY(BindBuffer),
+      POLDER_GL_ENTRY(BufferData),
+      POLDER_GL_ENTRY(MapBufferRange),
+      POLDER_GL_ENTRY(UnmapBuffer),
+      POLDER_GL_ENTRY(GenVertexArrays),
+      POLDER_GL_ENTRY(DeleteVertexArrays),
+      POLDER_GL_ENTRY(BindVertexArray),
+      POLDER_GL_ENTRY(EnableVertexAttribArray),
+      POLDER_GL_ENTRY(VertexAttribPointer),
+      POLDER_GL_ENTRY(CreateShader),
+      POLDER_GL_ENTRY(ShaderSource),
+      POLDER_GL_ENTRY(CompileShader),
+      POLDER_GL_ENTRY(GetShaderiv),
+      POLDER_GL_ENTRY(GetShaderInfoLog),
+      POLDER_GL_ENTRY(DeleteShader),
+      POLDER_GL_ENTRY(CreateProgram),
+      POLDER_GL_ENTRY(AttachShader),
+      POLDER_GL_ENTRY(DetachShader),
+      POLDER_GL_ENTRY(LinkProgram),
+      POLDER_GL_ENTRY(GetProgramiv),
+      POLDER_GL_ENTRY(GetProgramInfoLog),
+      POLDER_GL_ENTRY(DeleteProgram),
+      POLDER_GL_ENTRY(UseProgram),
+      POLDER_GL_ENTRY(GetUniformLocation),
+      POLDER_GL_ENTRY(Uniform1f),
+      POLDER_GL_ENTRY(Uniform3fv),
+      POLDER_GL_ENTRY(UniformMatrix4fv),
+      POLDER_GL_ENTRY(DrawElementsBaseVertex),
+      POLDER_GL_ENTRY(ReadPixels),
+      POLDER_GL_ENTRY(PixelStorei),
       POLDER_GL_ENTRY(Finish),
   };
 #undef POLDER_GL_ENTRY
@@ -147,12 +179,18 @@ std::string firstMissingFunction(const GladGLContext& gl) {
 namespace {
 const char* glErrorName(GLenum error) {
   switch (error) {
-    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-    default: return "unknown GL error";
+    case GL_INVALID_ENUM:
+      return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE:
+      return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION:
+      return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION:
+      return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY:
+      return "GL_OUT_OF_MEMORY";
+    default:
+      return "unknown GL error";
   }
 }
 }  // namespace

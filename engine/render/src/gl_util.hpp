@@ -40,8 +40,8 @@ GlObject makeBuffer(const GladGLContext& gl);
 GlObject makeVertexArray(const GladGLContext& gl);
 
 // Compiles and links a vertex + fragment program; the Error carries the driver's info log.
-Result<GlObject> compileProgram(const GladGLContext& gl, std::string_view vertexSource,
-                                std::string_view fragmentSource, std::string_view name);
+Result<GlObject> compileProgram(const GladGLContext& gl, std::string_view vertexSource, std::string_view fragmentSource,
+                                std::string_view name);
 
 // Names the first GL entry point Polder needs that the loader did not provide, or "" when
 // all are there. glad leaves missing functions null, and calling one would crash.

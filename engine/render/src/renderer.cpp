@@ -75,8 +75,8 @@ Status validate(const DrawItem& item, const char* what) {
   for (const std::uint32_t index : item.indices) maxIndex = std::max(maxIndex, index);
   if (!item.indices.empty() && std::size_t(maxIndex) >= item.positions.size()) {
     return makeError(ErrorKind::InvalidArgument, std::string(what) + ": index " + std::to_string(maxIndex) +
-                                                     " is out of range for " +
-                                                     std::to_string(item.positions.size()) + " positions");
+                                                     " is out of range for " + std::to_string(item.positions.size()) +
+                                                     " positions");
   }
   if (item.positions.size() > std::size_t(INT32_MAX) || item.indices.size() > std::size_t(INT32_MAX)) {
     return makeError(ErrorKind::InvalidArgument, std::string(what) + ": mesh too large for one draw");
@@ -181,9 +181,7 @@ Status validateGrid(const GridMeshView& mesh) {
   return {};
 }
 
-GLADapiproc loadThrough(void* loader, const char* name) {
-  return (*static_cast<const GlProcLoader*>(loader))(name);
-}
+GLADapiproc loadThrough(void* loader, const char* name) { return (*static_cast<const GlProcLoader*>(loader))(name); }
 
 std::string glString(const GladGLContext& gl, GLenum name) {
   const auto* text = reinterpret_cast<const char*>(gl.GetString(name));
@@ -355,8 +353,10 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const GlProcLoader& loader, c
                      "Renderer::create: no OpenGL context is current, or the loader does not provide glGetString");
   }
   if (version < GLAD_MAKE_VERSION(3, 3)) {
-    return makeError(ErrorKind::Environment, "Renderer::create: OpenGL 3.3 core or newer is needed; the current "
-                                             "context is \"" + glString(gl, GL_VERSION) + "\"");
+    return makeError(ErrorKind::Environment,
+                     "Renderer::create: OpenGL 3.3 core or newer is needed; the current "
+                     "context is \"" +
+                         glString(gl, GL_VERSION) + "\"");
   }
   if (const std::string missing = detail::firstMissingFunction(gl); !missing.empty()) {
     return makeError(ErrorKind::Environment, "Renderer::create: the GL loader does not provide " + missing);
@@ -416,8 +416,8 @@ Result<MeshHandle> Renderer::upload(const DrawItem& item) {
   gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertexBytes), nullptr, GL_STATIC_DRAW);
   bool written = true;
   if (vertexBytes > 0) {
-    void* mapped = gl.MapBufferRange(GL_ARRAY_BUFFER, 0, GLsizeiptr(vertexBytes),
-                                     GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
+    void* mapped =
+        gl.MapBufferRange(GL_ARRAY_BUFFER, 0, GLsizeiptr(vertexBytes), GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
     if (mapped) {
       writeVertices(static_cast<Vertex*>(mapped), item.positions, normals);
       written = gl.UnmapBuffer(GL_ARRAY_BUFFER) == GL_TRUE;
@@ -551,8 +551,8 @@ Status Renderer::drawTransient(const DrawItem& item) {
 
   gl.BindVertexArray(r.streamArray.id());
   gl.BindBuffer(GL_ARRAY_BUFFER, r.streamVertices.id());
-  void* vertices = r.mapStream(GL_ARRAY_BUFFER, sizeof(Vertex), item.positions.size(), r.streamVertexCapacity,
-                               r.streamVertexCursor);
+  void* vertices =
+      r.mapStream(GL_ARRAY_BUFFER, sizeof(Vertex), item.positions.size(), r.streamVertexCapacity, r.streamVertexCursor);
   if (!vertices) return detail::takeGlErrors(gl, "Renderer::drawTransient (mapping vertices)");
   writeVertices(static_cast<Vertex*>(vertices), item.positions, normals);
   const bool verticesOk = gl.UnmapBuffer(GL_ARRAY_BUFFER) == GL_TRUE;

@@ -46,14 +46,15 @@ Result<std::vector<std::byte>> readWholeFile(const std::filesystem::path& path, 
   std::vector<std::byte> bytes(length);
   in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(length));
   if (std::uint64_t(in.gcount()) != length)
-    return makeError(ErrorKind::Io, "could read only " + std::to_string(in.gcount()) + " of its " +
-                                        std::to_string(length) + " bytes");
+    return makeError(ErrorKind::Io,
+                     "could read only " + std::to_string(in.gcount()) + " of its " + std::to_string(length) + " bytes");
   return bytes;
 }
 
 Result<Dem> readRaw(const std::filesystem::path& path, std::uint64_t length, const DemOptions& options) {
   const RawLayout& layout = *options.raw;
-  const std::uint64_t bytesPerSample = rawByteSize(layout) / (std::uint64_t(layout.width) * std::uint64_t(layout.height));
+  const std::uint64_t bytesPerSample =
+      rawByteSize(layout) / (std::uint64_t(layout.width) * std::uint64_t(layout.height));
   if (Status size = checkRasterSize(std::uint64_t(layout.width), std::uint64_t(layout.height),
                                     demBytesPerSample(bytesPerSample), options.memoryLimitBytes);
       !size)
@@ -70,7 +71,8 @@ Result<Dem> readRaw(const std::filesystem::path& path, std::uint64_t length, con
 Result<Dem> readHgt(const std::filesystem::path& path, std::uint64_t length, const DemOptions& options) {
   if (Status valid = checkHgtLength(length); !valid) return valid.error();
   const int size = hgtSizeFromLength(length);
-  if (Status fits = checkRasterSize(std::uint64_t(size), std::uint64_t(size), demBytesPerSample(2), options.memoryLimitBytes);
+  if (Status fits =
+          checkRasterSize(std::uint64_t(size), std::uint64_t(size), demBytesPerSample(2), options.memoryLimitBytes);
       !fits)
     return fits.error();
   auto bytes = readWholeFile(path, length);
@@ -110,10 +112,12 @@ Result<Dem> readAny(const std::filesystem::path& path, const DemOptions& options
   if (extension == ".r16" || extension == ".raw" || extension == ".f32")
     return makeError(ErrorKind::InvalidArgument,
                      "a headerless raw file needs its layout (options.raw, --raw WxH:u16|i16|f32[:le|be])");
-  if (extension == ".png") return makeError(ErrorKind::InvalidData, "not a PNG: the PNG signature is missing (corrupt?)");
+  if (extension == ".png")
+    return makeError(ErrorKind::InvalidData, "not a PNG: the PNG signature is missing (corrupt?)");
   if (extension == ".tif" || extension == ".tiff")
     return makeError(ErrorKind::InvalidData, "not a TIFF: the TIFF header is missing (corrupt?)");
-  if (extension == ".exr") return makeError(ErrorKind::InvalidData, "not an OpenEXR: the EXR magic number is missing (corrupt?)");
+  if (extension == ".exr")
+    return makeError(ErrorKind::InvalidData, "not an OpenEXR: the EXR magic number is missing (corrupt?)");
   return makeError(ErrorKind::Unsupported,
                    "unknown DEM format (expected PNG, TIFF/GeoTIFF, OpenEXR, SRTM .hgt, or raw with a layout)");
 }

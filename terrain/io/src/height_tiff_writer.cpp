@@ -9,8 +9,8 @@
 
 #include <tiffio.h>
 
-#include "tiff_tags.hpp"
 #include "io_text.hpp"
+#include "tiff_tags.hpp"
 
 namespace polder::terrain {
 namespace {
@@ -24,7 +24,9 @@ struct TiffCloser {
 }  // namespace
 
 Status writeHeightTiffFloat(const std::filesystem::path& path, const Heightfield& field) {
-  const auto fail = [&](ErrorKind kind, const std::string& message) { return makeError(kind, path.string() + ": " + message); };
+  const auto fail = [&](ErrorKind kind, const std::string& message) {
+    return makeError(kind, path.string() + ": " + message);
+  };
   if (field.width <= 0 || field.height <= 0 || field.heights.size() != field.sampleCount())
     return fail(ErrorKind::InvalidArgument, "the heightfield is empty or inconsistent");
   if (!(field.spacingX > 0.0 && field.spacingY > 0.0 && std::isfinite(field.spacingX) && std::isfinite(field.spacingY)))
@@ -54,11 +56,11 @@ Status writeHeightTiffFloat(const std::filesystem::path& path, const Heightfield
   const double pixelScale[3] = {field.spacingX, field.spacingY, 0.0};
   const double tiepoint[6] = {0.0, 0.0, 0.0, 0.0, field.extentY(), 0.0};
   const std::uint16_t geoKeys[] = {
-      1, 1, 0, 4,              // directory version 1.1.0, 4 keys
-      1024, 0, 1, 1,           // GTModelTypeGeoKey = projected
-      1025, 0, 1, 2,           // GTRasterTypeGeoKey = PixelIsPoint
-      3072, 0, 1, 32767,       // ProjectedCSTypeGeoKey = user-defined
-      3076, 0, 1, 9001,        // ProjLinearUnitsGeoKey = metre
+      1,    1, 0, 4,      // directory version 1.1.0, 4 keys
+      1024, 0, 1, 1,      // GTModelTypeGeoKey = projected
+      1025, 0, 1, 2,      // GTRasterTypeGeoKey = PixelIsPoint
+      3072, 0, 1, 32767,  // ProjectedCSTypeGeoKey = user-defined
+      3076, 0, 1, 9001,   // ProjLinearUnitsGeoKey = metre
   };
   TIFFSetField(tif, kTagModelPixelScale, 3, pixelScale);
   TIFFSetField(tif, kTagModelTiepoint, 6, tiepoint);

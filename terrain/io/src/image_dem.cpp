@@ -12,8 +12,8 @@
 #include <polder/terrain/rgb_encoding.hpp>
 #include <polder/terrain/samples.hpp>
 
-#include "tiff_tags.hpp"
 #include "io_text.hpp"
+#include "tiff_tags.hpp"
 
 namespace polder::terrain::io {
 namespace {
@@ -28,15 +28,24 @@ struct StoredType {
 
 std::optional<StoredType> storedType(OIIO::TypeDesc type) {
   switch (OIIO::TypeDesc::BASETYPE(type.basetype)) {
-    case OIIO::TypeDesc::UINT8: return StoredType{SampleFormat::U8, OIIO::TypeDesc::UINT8, "uint8"};
-    case OIIO::TypeDesc::UINT16: return StoredType{SampleFormat::U16, OIIO::TypeDesc::UINT16, "uint16"};
-    case OIIO::TypeDesc::INT16: return StoredType{SampleFormat::I16, OIIO::TypeDesc::INT16, "int16"};
-    case OIIO::TypeDesc::UINT32: return StoredType{SampleFormat::U32, OIIO::TypeDesc::UINT32, "uint32"};
-    case OIIO::TypeDesc::INT32: return StoredType{SampleFormat::I32, OIIO::TypeDesc::INT32, "int32"};
-    case OIIO::TypeDesc::HALF: return StoredType{SampleFormat::F32, OIIO::TypeDesc::FLOAT, "float16"};
-    case OIIO::TypeDesc::FLOAT: return StoredType{SampleFormat::F32, OIIO::TypeDesc::FLOAT, "float32"};
-    case OIIO::TypeDesc::DOUBLE: return StoredType{SampleFormat::F64, OIIO::TypeDesc::DOUBLE, "float64"};
-    default: return std::nullopt;
+    case OIIO::TypeDesc::UINT8:
+      return StoredType{SampleFormat::U8, OIIO::TypeDesc::UINT8, "uint8"};
+    case OIIO::TypeDesc::UINT16:
+      return StoredType{SampleFormat::U16, OIIO::TypeDesc::UINT16, "uint16"};
+    case OIIO::TypeDesc::INT16:
+      return StoredType{SampleFormat::I16, OIIO::TypeDesc::INT16, "int16"};
+    case OIIO::TypeDesc::UINT32:
+      return StoredType{SampleFormat::U32, OIIO::TypeDesc::UINT32, "uint32"};
+    case OIIO::TypeDesc::INT32:
+      return StoredType{SampleFormat::I32, OIIO::TypeDesc::INT32, "int32"};
+    case OIIO::TypeDesc::HALF:
+      return StoredType{SampleFormat::F32, OIIO::TypeDesc::FLOAT, "float16"};
+    case OIIO::TypeDesc::FLOAT:
+      return StoredType{SampleFormat::F32, OIIO::TypeDesc::FLOAT, "float32"};
+    case OIIO::TypeDesc::DOUBLE:
+      return StoredType{SampleFormat::F64, OIIO::TypeDesc::DOUBLE, "float64"};
+    default:
+      return std::nullopt;
   }
 }
 
@@ -125,14 +134,15 @@ Result<Dem> readImageDem(const std::filesystem::path& path, std::uint64_t fileLe
                                                  " channels)");
   const auto stored = storedType(spec.format);
   if (!stored)
-    return makeError(ErrorKind::Unsupported, std::string("samples of type ") + spec.format.c_str() + " are not supported");
+    return makeError(ErrorKind::Unsupported,
+                     std::string("samples of type ") + spec.format.c_str() + " are not supported");
 
   const bool rgb8 = stored->format == SampleFormat::U8 && spec.nchannels >= 3;
   HeightEncoding encoding = options.encoding;
   if ((encoding == HeightEncoding::TerrainRgb || encoding == HeightEncoding::Terrarium) && !rgb8)
-    return makeError(ErrorKind::InvalidArgument,
-                     std::string("encoding ") + heightEncodingName(encoding) + " needs an 8-bit RGB(A) image, this one has " +
-                         std::to_string(spec.nchannels) + " channel(s) of " + stored->name);
+    return makeError(ErrorKind::InvalidArgument, std::string("encoding ") + heightEncodingName(encoding) +
+                                                     " needs an 8-bit RGB(A) image, this one has " +
+                                                     std::to_string(spec.nchannels) + " channel(s) of " + stored->name);
   const bool readRgb = rgb8 && encoding != HeightEncoding::Greyscale;
   const int channels = readRgb ? (spec.alpha_channel == 3 ? 4 : 3) : 1;
 

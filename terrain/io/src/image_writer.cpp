@@ -27,7 +27,8 @@ Status writeImage(const std::filesystem::path& path, const OIIO::ImageSpec& spec
     return named(path, ErrorKind::Io, "cannot create the file: " + io::oneLine(output->geterror()));
   const bool written = output->write_image(spec.format, pixels);
   const bool closed = output->close();
-  if (!written || !closed) return named(path, ErrorKind::Io, "cannot write the image: " + io::oneLine(output->geterror()));
+  if (!written || !closed)
+    return named(path, ErrorKind::Io, "cannot write the image: " + io::oneLine(output->geterror()));
   return {};
 }
 

@@ -52,17 +52,17 @@ Status checkPngStructure(const std::filesystem::path& path, std::uint64_t fileLe
   while (true) {
     unsigned char header[8];
     if (offset + sizeof header > fileLength || !in.read(reinterpret_cast<char*>(header), sizeof header))
-      return makeError(ErrorKind::InvalidData, "truncated PNG: the file ends at byte " + std::to_string(fileLength) +
-                                                   " before the IEND chunk");
+      return makeError(ErrorKind::InvalidData,
+                       "truncated PNG: the file ends at byte " + std::to_string(fileLength) + " before the IEND chunk");
     const std::uint32_t length = bigEndian32(header);
     const std::string type(reinterpret_cast<const char*>(header + 4), 4);
     if (length > kMaxChunkLength || !isChunkType(header + 4))
-      return makeError(ErrorKind::InvalidData, "corrupt PNG: the chunk header at byte " + std::to_string(offset) +
-                                                   " is not valid");
+      return makeError(ErrorKind::InvalidData,
+                       "corrupt PNG: the chunk header at byte " + std::to_string(offset) + " is not valid");
     if (offset + 12 + length > fileLength)
       return makeError(ErrorKind::InvalidData, "truncated PNG: chunk " + type + " at byte " + std::to_string(offset) +
-                                                   " needs " + std::to_string(length + 12) + " bytes, the file ends at byte " +
-                                                   std::to_string(fileLength));
+                                                   " needs " + std::to_string(length + 12) +
+                                                   " bytes, the file ends at byte " + std::to_string(fileLength));
     std::uint32_t crc = updateCrc(0xffffffffu, header + 4, 4);
     for (std::uint32_t left = length; left > 0;) {
       const std::size_t part = std::min<std::size_t>(left, buffer.size());
@@ -75,8 +75,8 @@ Status checkPngStructure(const std::filesystem::path& path, std::uint64_t fileLe
     if (!in.read(reinterpret_cast<char*>(stored), 4))
       return makeError(ErrorKind::Io, "cannot read chunk " + type + " at byte " + std::to_string(offset));
     if (bigEndian32(stored) != (crc ^ 0xffffffffu))
-      return makeError(ErrorKind::InvalidData, "corrupt PNG: chunk " + type + " at byte " + std::to_string(offset) +
-                                                   " fails its CRC check");
+      return makeError(ErrorKind::InvalidData,
+                       "corrupt PNG: chunk " + type + " at byte " + std::to_string(offset) + " fails its CRC check");
     if (type == "IEND") return {};
     offset += 12 + std::uint64_t(length);
   }

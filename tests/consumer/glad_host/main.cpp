@@ -22,8 +22,8 @@ int main() {
   if (host_glad_calls != 1) return std::fprintf(stderr, "Polder called the host's glad\n"), 1;
 
   polder::MeshData ground;  // a flat square under the camera, counter-clockwise from above
-  ground.positions = {{-5000.0f, -5000.0f, 0.0f}, {5000.0f, -5000.0f, 0.0f}, {5000.0f, 5000.0f, 0.0f},
-                      {-5000.0f, 5000.0f, 0.0f}};
+  ground.positions = {
+      {-5000.0f, -5000.0f, 0.0f}, {5000.0f, -5000.0f, 0.0f}, {5000.0f, 5000.0f, 0.0f}, {-5000.0f, 5000.0f, 0.0f}};
   ground.indices = {0, 1, 2, 0, 2, 3};
   auto mesh = (*renderer)->upload(ground);
   if (!mesh) return std::fprintf(stderr, "%s\n", mesh.error().message.c_str()), 1;

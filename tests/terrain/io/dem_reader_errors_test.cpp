@@ -20,7 +20,8 @@ namespace {
 using test::ScratchDir;
 
 // Reads, expects failure of `kind`, and checks the message names the file and `problem`.
-void expectError(const std::filesystem::path& path, const DemOptions& options, ErrorKind kind, const std::string& problem) {
+void expectError(const std::filesystem::path& path, const DemOptions& options, ErrorKind kind,
+                 const std::string& problem) {
   const auto dem = readDem(path, options);
   ASSERT_FALSE(dem.ok()) << path << " was read";
   const std::string& message = dem.error().message;
@@ -62,8 +63,9 @@ std::string littleEndian(std::uint64_t value, int bytes) {
 // A little-endian 8-bit grey TIFF with one strip at offset 256 of `stripBytes`, followed by
 // `present` bytes of data (fewer than the strip when truncated).
 std::string handMadeTiff(std::uint32_t width, std::uint32_t height, std::uint32_t stripBytes, std::size_t present) {
-  const std::pair<std::uint16_t, std::uint32_t> entries[] = {
-      {256, width}, {257, height}, {258, 8}, {259, 1}, {262, 1}, {273, 256}, {277, 1}, {278, height}, {279, stripBytes}};
+  const std::pair<std::uint16_t, std::uint32_t> entries[] = {{256, width}, {257, height}, {258, 8},
+                                                             {259, 1},     {262, 1},      {273, 256},
+                                                             {277, 1},     {278, height}, {279, stripBytes}};
   std::string tiff = "II*" + std::string(1, '\0') + littleEndian(8, 4) + littleEndian(9, 2);
   for (auto [tag, value] : entries) {
     const bool isShort = tag == 258 || tag == 259 || tag == 262 || tag == 277;

@@ -28,7 +28,8 @@ std::vector<T> ramp(int width, int height, double base, double step = 1.0) {
 
 // The file's north row first is the Heightfield's last row.
 template <class T>
-void expectFlipped(const Heightfield& field, const std::vector<T>& fileValues, double scale = 1.0, double tolerance = 0.0) {
+void expectFlipped(const Heightfield& field, const std::vector<T>& fileValues, double scale = 1.0,
+                   double tolerance = 0.0) {
   ASSERT_EQ(field.sampleCount(), fileValues.size());
   for (int r = 0; r < field.height; ++r)
     for (int c = 0; c < field.width; ++c)
@@ -240,7 +241,8 @@ TEST(ReadDem, TransparentTilePixelsAreVoids) {
 TEST(ReadDem, GreyImageSavedAsRgbReadsAsGreyscale) {
   ScratchDir dir;
   std::vector<std::uint8_t> pixels;
-  for (int i = 0; i < 12; ++i) pixels.insert(pixels.end(), {std::uint8_t(i * 20), std::uint8_t(i * 20), std::uint8_t(i * 20)});
+  for (int i = 0; i < 12; ++i)
+    pixels.insert(pixels.end(), {std::uint8_t(i * 20), std::uint8_t(i * 20), std::uint8_t(i * 20)});
   writeImage(dir.file("grey_rgb.png"), 4, 3, 3, pixels);
   const auto dem = readDem(dir.file("grey_rgb.png"), {});
   ASSERT_TRUE(dem.ok()) << dem.error().message;

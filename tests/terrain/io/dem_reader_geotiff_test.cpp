@@ -14,8 +14,8 @@
 namespace polder::terrain {
 namespace {
 
-using test::GeoTags;
 using test::geoKeyDirectory;
+using test::GeoTags;
 using test::ScratchDir;
 
 std::vector<std::int16_t> hills(int width, int height) {
@@ -39,7 +39,7 @@ TEST(ReadGeoTiff, GeographicDegreesBecomeMetresAtTheCentreLatitude) {
   EXPECT_FALSE(dem->info.spacingAssumed);
   EXPECT_NEAR(dem->field.spacingY, test::metresPerDegreeLatitude(60.0) / 120.0, 0.01);   // ~927 m
   EXPECT_NEAR(dem->field.spacingX, test::metresPerDegreeLongitude(60.0) / 120.0, 0.01);  // ~465 m
-  EXPECT_EQ(dem->field.at(0, 239), 500.0f);  // north-west
+  EXPECT_EQ(dem->field.at(0, 239), 500.0f);                                              // north-west
 }
 
 TEST(ReadGeoTiff, ProjectedMetresAndFeet) {

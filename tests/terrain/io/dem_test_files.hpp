@@ -85,7 +85,9 @@ void writeGeoTiff(const std::filesystem::path& path, int width, int height, cons
   TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, 1);
   TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, int(8 * sizeof(T)));
   TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT,
-               isFloat ? SAMPLEFORMAT_IEEEFP : std::is_signed_v<T> ? SAMPLEFORMAT_INT : SAMPLEFORMAT_UINT);
+               isFloat               ? SAMPLEFORMAT_IEEEFP
+               : std::is_signed_v<T> ? SAMPLEFORMAT_INT
+                                     : SAMPLEFORMAT_UINT);
   TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
   TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
   TIFFSetField(tif, TIFFTAG_COMPRESSION, tiledCompressed ? COMPRESSION_ADOBE_DEFLATE : COMPRESSION_NONE);
@@ -112,7 +114,9 @@ void writeGeoTiff(const std::filesystem::path& path, int width, int height, cons
       }
   } else {
     for (int y = 0; y < height; ++y)
-      ASSERT_GE(TIFFWriteScanline(tif, const_cast<T*>(&samples[std::size_t(y) * std::size_t(width)]), std::uint32_t(y), 0), 0);
+      ASSERT_GE(
+          TIFFWriteScanline(tif, const_cast<T*>(&samples[std::size_t(y) * std::size_t(width)]), std::uint32_t(y), 0),
+          0);
   }
   TIFFClose(tif);
 }
@@ -128,6 +132,5 @@ inline std::string readBytes(const std::filesystem::path& path) {
 }
 
 // Stores values in the byte order asked for.
-
 
 }  // namespace polder::test

@@ -18,7 +18,8 @@ using test::ScratchDir;
 Heightfield terrain(int width, int height, double spacingX, double spacingY) {
   Heightfield field(width, height, spacingX, spacingY);
   for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) field.at(x, y) = float(-35.5 + 1200.0 * std::sin(x * 0.07) * std::cos(y * 0.05) + y);
+    for (int x = 0; x < width; ++x)
+      field.at(x, y) = float(-35.5 + 1200.0 * std::sin(x * 0.07) * std::cos(y * 0.05) + y);
   return field;
 }
 
@@ -90,7 +91,8 @@ TEST(WriteHeightFiles, RefuseBadFieldsAndPaths) {
   ScratchDir dir;
   Heightfield field(4, 4, 1.0, 1.0);
   field.heights[5] = std::numeric_limits<float>::quiet_NaN();
-  for (const auto& status : {writeHeightPng16(dir.file("nan.png"), field), writeHeightTiffFloat(dir.file("nan.tif"), field)}) {
+  for (const auto& status :
+       {writeHeightPng16(dir.file("nan.png"), field), writeHeightTiffFloat(dir.file("nan.tif"), field)}) {
     ASSERT_FALSE(status.ok());
     EXPECT_EQ(status.error().kind, ErrorKind::InvalidArgument);
     EXPECT_NE(status.error().message.find("not finite"), std::string::npos) << status.error().message;

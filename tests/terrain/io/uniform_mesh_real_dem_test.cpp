@@ -35,7 +35,9 @@ TEST(UniformMeshRealDem, MtRainierCropIsWithinTheBoundAndWatertight) {
     EXPECT_EQ(report.openEdges, 0u);
     EXPECT_EQ(report.tJunctions, 0u);
     EXPECT_TRUE(report.watertight());
-    if (previous != 0) EXPECT_LT(mesh->triangleCount(), previous);
+    if (previous != 0) {
+      EXPECT_LT(mesh->triangleCount(), previous);
+    }
     previous = mesh->triangleCount();
   }
 }

@@ -60,14 +60,14 @@ struct LodCacheOptions {
 
 // What an acquire did.
 enum class LodOutcome : std::uint8_t {
-  Reused,                  // the cached mesh passed the reuse test
-  Built,                   // the block was not cached
-  RebuiltTooCoarse,        // the cached mesh could exceed tau from the new camera
-  RebuiltNeedlesslyFine,   // within tau, but far finer than the new view needs
-  RebuiltChanged,          // built for the other mode (view / count), another footprint, or
-                           // a count target outside the hysteresis
-  RebuiltPinned,           // side vertices were pinned since it was built (pin())
-  RebuiltUncached,         // caching is disabled
+  Reused,                 // the cached mesh passed the reuse test
+  Built,                  // the block was not cached
+  RebuiltTooCoarse,       // the cached mesh could exceed tau from the new camera
+  RebuiltNeedlesslyFine,  // within tau, but far finer than the new view needs
+  RebuiltChanged,         // built for the other mode (view / count), another footprint, or
+                          // a count target outside the hysteresis
+  RebuiltPinned,          // side vertices were pinned since it was built (pin())
+  RebuiltUncached,        // caching is disabled
 };
 
 inline bool isRebuild(LodOutcome outcome) { return outcome != LodOutcome::Reused; }

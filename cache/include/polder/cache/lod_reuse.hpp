@@ -97,7 +97,7 @@ inline constexpr int kLodRegionCount = kLodRegionsPerSide * kLodRegionsPerSide;
 // One sub-region of the summary (see the top of this file).
 // Doubles where a value enters the safety proof: rounding a bound to float could tighten it.
 struct LodRegion {
-  double minZ = 0.0;            // B(S) z-range, metres relative to BlockLod::origin()
+  double minZ = 0.0;  // B(S) z-range, metres relative to BlockLod::origin()
   double maxZ = 0.0;
   double marginM = 0.0;         // M(S), metres; +infinity when no triangle constrains it
   double buildDistanceM = 0.0;  // dist(c0, B(S)); the allowed error then was a0 = tau * max(this, near) / K
@@ -106,11 +106,11 @@ struct LodRegion {
 };
 
 struct LodSummary {
-  terrain::LodView view;        // the view the mesh was extracted for (camera relative to origin())
-  double spacingX = 0.0;        // metres between neighbouring vertices
+  terrain::LodView view;  // the view the mesh was extracted for (camera relative to origin())
+  double spacingX = 0.0;  // metres between neighbouring vertices
   double spacingY = 0.0;
-  int regionCells = 0;          // cells per sub-region side
-  int cellsX = 0;               // the valid rectangle, cells (BlockLod::cellsX, cellsY)
+  int regionCells = 0;  // cells per sub-region side
+  int cellsX = 0;       // the valid rectangle, cells (BlockLod::cellsX, cellsY)
   int cellsY = 0;
   int regionsX = 0;             // non-empty sub-regions per side; region (rx, ry) is
   int regionsY = 0;             // regions[ry * kLodRegionsPerSide + rx]

@@ -51,7 +51,7 @@ class CameraPath {
 };
 
 struct FlyoverOptions {
-  double altitudeM = 300.0;      // above the highest ground near the path
+  double altitudeM = 300.0;  // above the highest ground near the path
   double speedMps = 150.0;
   double pitchDeg = -15.0;       // looking ahead and slightly down
   double radiusFraction = 0.32;  // of the terrain's extent, around its centre
@@ -62,11 +62,12 @@ struct FlyoverOptions {
 // around the centre, at `altitudeM` above the ground it flies over (the ground is taken as
 // the highest point within a few hundred metres ahead and behind, smoothed, so the flight
 // clears peaks without bobbing over every bump).
-CameraPath makeFlyoverLoop(double extentX, double extentY, const std::function<double(double x, double y)>& groundHeight,
+CameraPath makeFlyoverLoop(double extentX, double extentY,
+                           const std::function<double(double x, double y)>& groundHeight,
                            const FlyoverOptions& options = {});
 
 struct OrbitOptions {
-  double altitudeM = 1000.0;     // above the highest ground on the circle
+  double altitudeM = 1000.0;  // above the highest ground on the circle
   double speedMps = 150.0;
   double radiusFraction = 0.35;  // of the terrain's smaller extent, around its centre
   int samples = 720;

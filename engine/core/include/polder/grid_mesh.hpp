@@ -56,9 +56,7 @@ static_assert(sizeof(GridMeshVertex) == 16);
 inline std::int8_t snorm8(float value) {
   return std::int8_t(std::lround(std::fmax(-1.0f, std::fmin(1.0f, value)) * 127.0f));
 }
-inline glm::vec3 normalOf(const GridMeshVertex& v) {
-  return glm::vec3(float(v.nx), float(v.ny), float(v.nz)) / 127.0f;
-}
+inline glm::vec3 normalOf(const GridMeshVertex& v) { return glm::vec3(float(v.nx), float(v.ny), float(v.nz)) / 127.0f; }
 
 // A non-owning view of a grid mesh: counter-clockwise triangles seen from above.
 struct GridMeshView {
@@ -79,8 +77,8 @@ struct GridCamera {
 
 inline GridCamera gridCameraOf(const glm::dvec3& position, const GridSpacing& spacing) {
   GridCamera camera;
-  camera.anchor = GridAnchor{std::int64_t(std::floor(position.x / spacing.x)),
-                             std::int64_t(std::floor(position.y / spacing.y))};
+  camera.anchor =
+      GridAnchor{std::int64_t(std::floor(position.x / spacing.x)), std::int64_t(std::floor(position.y / spacing.y))};
   camera.remainder = glm::dvec3(position.x - double(camera.anchor.x) * spacing.x,
                                 position.y - double(camera.anchor.y) * spacing.y, position.z);
   return camera;

@@ -14,8 +14,8 @@ namespace polder {
 // so the floats stay small however far the mesh lies from the world origin.
 struct MeshData {
   glm::dvec3 origin{0.0};
-  std::vector<glm::vec3> positions;  // relative to origin
-  std::vector<glm::vec3> normals;    // unit, one per position (may be empty)
+  std::vector<glm::vec3> positions;    // relative to origin
+  std::vector<glm::vec3> normals;      // unit, one per position (may be empty)
   std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise seen from outside/above
 
   std::size_t triangleCount() const { return indices.size() / 3; }

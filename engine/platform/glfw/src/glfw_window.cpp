@@ -58,9 +58,9 @@ void releaseGlfw() {
 }
 
 constexpr std::array<int, std::size_t(Key::Count)> kGlfwKeys = {
-    GLFW_KEY_W,  GLFW_KEY_A,    GLFW_KEY_S,    GLFW_KEY_D,     GLFW_KEY_Q,          GLFW_KEY_E,
-    GLFW_KEY_UP, GLFW_KEY_DOWN, GLFW_KEY_LEFT, GLFW_KEY_RIGHT, GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT,
-    GLFW_KEY_SPACE, GLFW_KEY_ESCAPE};
+    GLFW_KEY_W,          GLFW_KEY_A,           GLFW_KEY_S,     GLFW_KEY_D,     GLFW_KEY_Q,
+    GLFW_KEY_E,          GLFW_KEY_UP,          GLFW_KEY_DOWN,  GLFW_KEY_LEFT,  GLFW_KEY_RIGHT,
+    GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT, GLFW_KEY_SPACE, GLFW_KEY_ESCAPE};
 
 }  // namespace
 
@@ -107,9 +107,8 @@ Result<std::unique_ptr<GlfwWindow>> GlfwWindow::create(const GlfwWindowOptions& 
   auto impl = std::make_unique<Impl>();
   impl->window = window;  // from here on, Impl's destructor closes the window and releases GLFW
   glfwSetWindowUserPointer(window, impl.get());
-  glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
-    static_cast<Impl*>(glfwGetWindowUserPointer(w))->scroll += dy;
-  });
+  glfwSetScrollCallback(
+      window, [](GLFWwindow* w, double, double dy) { static_cast<Impl*>(glfwGetWindowUserPointer(w))->scroll += dy; });
   glfwMakeContextCurrent(window);
   glfwSwapInterval(options.vsync ? 1 : 0);
   return std::unique_ptr<GlfwWindow>(new GlfwWindow(std::move(impl)));

@@ -81,8 +81,7 @@ Status OsmesaContext::makeCurrent() {
   Impl& c = *m_impl;
   if (!OSMesaMakeCurrent(c.context, c.buffer.data(), GL_UNSIGNED_BYTE, c.width, c.height)) {
     return makeError(ErrorKind::Environment, "OsmesaContext: OSMesaMakeCurrent failed for a " +
-                                                 std::to_string(c.width) + "x" + std::to_string(c.height) +
-                                                 " buffer");
+                                                 std::to_string(c.width) + "x" + std::to_string(c.height) + " buffer");
   }
   return {};
 }

@@ -7,8 +7,9 @@ namespace polder {
 namespace {
 
 void reserveFrames(FlightRecord& record, std::size_t frames, bool drawn) {
-  for (std::vector<double>* series : {&record.selectMs, &record.lodMs, &record.dikesMs, &record.piecesMs, &record.totalMs,
-                                      &record.triangles, &record.dikeTriangles, &record.visibleBlocks, &record.culledBlocks})
+  for (std::vector<double>* series :
+       {&record.selectMs, &record.lodMs, &record.dikesMs, &record.piecesMs, &record.totalMs, &record.triangles,
+        &record.dikeTriangles, &record.visibleBlocks, &record.culledBlocks})
     series->reserve(frames);
   if (drawn) {
     record.renderMs.reserve(frames);
@@ -49,7 +50,8 @@ Camera FlightRecorder::camera(int frameIndex) const {
 }
 
 Result<FlightRecord> FlightRecorder::fly(const FlightOptions& options, const FlightHooks& hooks) {
-  if (options.frames < 1) return makeError(ErrorKind::InvalidArgument, "a flight needs at least 1 frame (FlightOptions::frames)");
+  if (options.frames < 1)
+    return makeError(ErrorKind::InvalidArgument, "a flight needs at least 1 frame (FlightOptions::frames)");
   if (options.checkEvery < 0)
     return makeError(ErrorKind::InvalidArgument, "FlightOptions::checkEvery must be 0 (never) or more");
   const TerrainEngineOptions engineOptions = m_engine.options();
@@ -77,7 +79,8 @@ void FlightRecorder::recordFrame(int frameIndex, bool checked, const FlightHooks
   if (hooks.draw) {
     const auto start = std::chrono::steady_clock::now();
     const std::size_t uploaded = hooks.draw(frame, camera);
-    record.renderMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    record.renderMs.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     record.uploadBytes.push_back(double(uploaded));
     if (hooks.countCracks) {
       const FramePixelCracks cracks = hooks.countCracks(m_engine, camera);

@@ -47,16 +47,20 @@ WorldBox transformBox(const Aabb& local, const glm::dmat4& world) {
 }
 
 double largestScale(const glm::dmat4& world) {
-  return std::max({glm::length(glm::dvec3(world[0])), glm::length(glm::dvec3(world[1])),
-                   glm::length(glm::dvec3(world[2]))});
+  return std::max(
+      {glm::length(glm::dvec3(world[0])), glm::length(glm::dvec3(world[1])), glm::length(glm::dvec3(world[2]))});
 }
 
 // Distinct, readable colours for debug region tints.
 glm::vec3 regionTint(std::uint32_t region) {
   const float hue = std::fmod(float(region) * 0.61803398875f, 1.0f) * 6.0f;
   const float x = 1.0f - std::abs(std::fmod(hue, 2.0f) - 1.0f);
-  glm::vec3 rgb = hue < 1 ? glm::vec3(1, x, 0) : hue < 2 ? glm::vec3(x, 1, 0) : hue < 3 ? glm::vec3(0, 1, x)
-                : hue < 4 ? glm::vec3(0, x, 1) : hue < 5 ? glm::vec3(x, 0, 1) : glm::vec3(1, 0, x);
+  glm::vec3 rgb = hue < 1   ? glm::vec3(1, x, 0)
+                  : hue < 2 ? glm::vec3(x, 1, 0)
+                  : hue < 3 ? glm::vec3(0, 1, x)
+                  : hue < 4 ? glm::vec3(0, x, 1)
+                  : hue < 5 ? glm::vec3(x, 0, 1)
+                            : glm::vec3(1, 0, x);
   return 0.35f + 0.65f * rgb;
 }
 
@@ -92,7 +96,8 @@ Result<int> Scene::addNode(SceneNode node) {
     return makeError(ErrorKind::InvalidArgument, "scene node '" + node.name + "': its parent must be an earlier node");
   if (node.model >= static_cast<int>(m_models.size()) || node.model < -1 || (node.model >= 0 && !m_models[node.model]))
     return makeError(ErrorKind::InvalidArgument, "scene node '" + node.name + "': unknown model");
-  if (!isFinite(node.pose)) return makeError(ErrorKind::InvalidArgument, "scene node '" + node.name + "': non-finite pose");
+  if (!isFinite(node.pose))
+    return makeError(ErrorKind::InvalidArgument, "scene node '" + node.name + "': non-finite pose");
   NodeState state;
   state.node = std::move(node);
   if (state.node.model >= 0) {
@@ -167,7 +172,8 @@ const SceneStats& Scene::update(const Camera& camera, double timeS) {
       ++m_stats.regions;
       m_stats.objectTriangles += state.instance->triangleCount(r);
       const glm::vec3 tint = state.node.tintRegions ? state.node.tint * regionTint(r) : state.node.tint;
-      m_drawItems.push_back(DrawItem{state.origin, state.worldPositions, state.worldNormals, state.instance->indices(r), tint});
+      m_drawItems.push_back(
+          DrawItem{state.origin, state.worldPositions, state.worldNormals, state.instance->indices(r), tint});
     }
     m_stats.visibleObjects += anyVisible;
   }

@@ -40,8 +40,9 @@ Result<std::unique_ptr<TerrainEngine>> buildTerrain(const TerrainDescription& de
 }
 
 // Adds the node's copies; `nodeIndex` learns their names, `meshTriangles` their models' triangles.
-Status addNodes(const NodeDescription& description, const std::string& where, const std::map<std::string, int>& modelIndex,
-                const std::vector<std::size_t>& modelTriangles, std::map<std::string, int>& nodeIndex, BuiltScene& built) {
+Status addNodes(const NodeDescription& description, const std::string& where,
+                const std::map<std::string, int>& modelIndex, const std::vector<std::size_t>& modelTriangles,
+                std::map<std::string, int>& nodeIndex, BuiltScene& built) {
   SceneNode node;
   node.name = description.name;
   if (!description.model.empty()) {
@@ -51,7 +52,8 @@ Status addNodes(const NodeDescription& description, const std::string& where, co
   }
   if (!description.parent.empty()) {
     const auto parent = nodeIndex.find(description.parent);
-    if (parent == nodeIndex.end()) return errorAt(where + ".parent", "no earlier node named '" + description.parent + "'");
+    if (parent == nodeIndex.end())
+      return errorAt(where + ".parent", "no earlier node named '" + description.parent + "'");
     node.parent = parent->second;
   }
   node.pose = description.pose;

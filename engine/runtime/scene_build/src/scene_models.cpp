@@ -37,7 +37,8 @@ Result<mesh::RegionPartition> partitionOf(const ModelDescription& model, const m
       if (regions.count < 1) return errorAt(where + ".regions", "needs at least 1 region");
       return mesh::automaticPartition(shape.positions, regions.count);
     case RegionsDescription::Kind::Grid:
-      if (regions.gridX < 1 || regions.gridY < 1) return errorAt(where + ".regions", "a grid needs at least 1 x 1 cells");
+      if (regions.gridX < 1 || regions.gridY < 1)
+        return errorAt(where + ".regions", "a grid needs at least 1 x 1 cells");
       return mesh::gridPartition(shape.positions, {regions.gridX, regions.gridY, 1});
   }
   return errorAt(where + ".regions", "unknown kind of partition");
@@ -45,7 +46,9 @@ Result<mesh::RegionPartition> partitionOf(const ModelDescription& model, const m
 
 }  // namespace
 
-Error errorAt(const std::string& where, const Error& error) { return makeError(error.kind, where + ": " + error.message); }
+Error errorAt(const std::string& where, const Error& error) {
+  return makeError(error.kind, where + ": " + error.message);
+}
 
 Error errorAt(const std::string& where, const std::string& problem) {
   return makeError(ErrorKind::InvalidData, where + ": " + problem);

@@ -11,16 +11,18 @@ namespace {
 // Quadtree levels under TerrainDebugView::Lod: level 0 keeps the terrain's colours, coarser
 // levels shift towards blue, violet, orange...
 constexpr glm::vec3 kLevelTints[] = {{1.0f, 1.0f, 1.0f}, {0.55f, 0.75f, 1.0f}, {0.85f, 0.55f, 1.0f},
-                                     {1.0f, 0.7f, 0.4f}, {0.5f, 1.0f, 0.6f},  {1.0f, 0.5f, 0.5f}};
+                                     {1.0f, 0.7f, 0.4f}, {0.5f, 1.0f, 0.6f},   {1.0f, 0.5f, 0.5f}};
 
 glm::vec3 tintOf(const TerrainPiece& piece, TerrainDebugView view) {
   const bool dikes = piece.kind == TerrainPieceKind::Dikes;
   switch (view) {
     case TerrainDebugView::Lod:
       return dikes ? glm::vec3(1.0f) : kLevelTints[std::min<std::size_t>(piece.node.level, 5)];
-    case TerrainDebugView::Dikes: return dikes ? glm::vec3(1.6f, 0.25f, 0.2f) : glm::vec3(0.8f);
+    case TerrainDebugView::Dikes:
+      return dikes ? glm::vec3(1.6f, 0.25f, 0.2f) : glm::vec3(0.8f);
     case TerrainDebugView::None:
-    case TerrainDebugView::Wire: break;
+    case TerrainDebugView::Wire:
+      break;
   }
   return glm::vec3(1.0f);
 }
@@ -77,9 +79,9 @@ Status TerrainDrawer::sync(const TerrainFrame& frame) {
   }
   m_stats.residentPieces = m_resident.size();
   if (!firstFailure) {
-    return makeError(firstFailure.error().kind, std::to_string(m_stats.uploadFailures) +
-                                                    " terrain pieces could not be uploaded: " +
-                                                    firstFailure.error().message);
+    return makeError(firstFailure.error().kind,
+                     std::to_string(m_stats.uploadFailures) +
+                         " terrain pieces could not be uploaded: " + firstFailure.error().message);
   }
   return {};
 }

@@ -51,7 +51,8 @@ DikeCheckResult DikeCheck::check(const Camera& camera, double tauPx, const terra
     bool pinned = false;
     for (const std::uint32_t v : {indices[t], indices[t + 1], indices[t + 2]}) {
       const std::uint32_t node = vertexNodes[v];
-      if (node != terrain::DikeStage::kNoNode) pinned |= pinAround(node, tx0, ty0, tx1, ty1, failing, cut, cutMeshes, cache);
+      if (node != terrain::DikeStage::kNoNode)
+        pinned |= pinAround(node, tx0, ty0, tx1, ty1, failing, cut, cutMeshes, cache);
     }
     if (!failing) continue;
     ++result.failing;

@@ -68,8 +68,9 @@ class DikeCheck {
   std::span<const terrain::NodeId> splits() const { return m_splits; }
 
  private:
-  bool pinAround(std::uint32_t node, int tx0, int ty0, int tx1, int ty1, bool urgent, std::span<const terrain::SelectedNode> cut,
-                 std::span<const terrain::BlockMesh* const> cutMeshes, cache::LodCache& cache);
+  bool pinAround(std::uint32_t node, int tx0, int ty0, int tx1, int ty1, bool urgent,
+                 std::span<const terrain::SelectedNode> cut, std::span<const terrain::BlockMesh* const> cutMeshes,
+                 cache::LodCache& cache);
 
   const terrain::Heightfield& m_field;
   terrain::BlockLayout m_layout;

@@ -13,9 +13,9 @@
 #include <polder/terrain/rtin.hpp>
 #include <polder/thread_pool.hpp>
 
+#include <polder/terrain/dike_stage.hpp>
 #include "dike_check.hpp"
 #include "terrain_pieces.hpp"
-#include <polder/terrain/dike_stage.hpp>
 
 namespace polder {
 
@@ -86,8 +86,14 @@ struct TerrainEngine::Impl {
 
   Impl(std::shared_ptr<const terrain::Heightfield> f, terrain::BlockLayout l, terrain::BlockQuadtree q,
        const TerrainEngineOptions& o)
-      : field(std::move(f)), layout(l), quadtree(std::move(q)), options(o),
-        meshes(cacheOptions(o)), dikes(*field, layout), dikeCheck(*field, layout), pieces(*field, layout) {
+      : field(std::move(f)),
+        layout(l),
+        quadtree(std::move(q)),
+        options(o),
+        meshes(cacheOptions(o)),
+        dikes(*field, layout),
+        dikeCheck(*field, layout),
+        pieces(*field, layout) {
     selectionScratch.reserve(quadtree);
     const std::size_t bound = quadtree.selectionBound();
     cut.reserve(bound);
@@ -376,16 +382,15 @@ std::span<const MeshData> TerrainEngine::frameMeshes() {
     mesh.normals.clear();
     for (const GridMeshVertex& v : grid.vertices) {
       mesh.positions.emplace_back(float(double(v.x) * grid.spacing.x), float(double(v.y) * grid.spacing.y), v.z);
-      mesh.normals.push_back(terrain::sampleNormal(*s.field, int(grid.anchor.x) + int(v.x), int(grid.anchor.y) + int(v.y)));
+      mesh.normals.push_back(
+          terrain::sampleNormal(*s.field, int(grid.anchor.x) + int(v.x), int(grid.anchor.y) + int(v.y)));
     }
     mesh.indices.assign(grid.indices.begin(), grid.indices.end());
   }
   return std::span<const MeshData>(s.pieceMeshes.data(), pieces.size());
 }
 
-terrain::WatertightReport TerrainEngine::checkWatertight() const {
-  return m_impl->dikes.checkWatertight();
-}
+terrain::WatertightReport TerrainEngine::checkWatertight() const { return m_impl->dikes.checkWatertight(); }
 
 const TerrainFrame& TerrainEngine::frame() const { return m_impl->frame; }
 const terrain::Heightfield& TerrainEngine::field() const { return *m_impl->field; }

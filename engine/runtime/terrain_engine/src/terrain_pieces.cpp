@@ -39,7 +39,8 @@ std::uint64_t triangleHash(const terrain::DikeVertex& a, const terrain::DikeVert
 
 // A block mesh's geometry, hashed: a rebuild that gives the same mesh keeps its version.
 std::uint64_t blockHash(const terrain::BlockMesh& mesh) {
-  std::uint64_t h = mixBits(packSample(mesh.footprint.x0, mesh.footprint.y0) ^ std::uint64_t(mesh.footprint.stride) << 20);
+  std::uint64_t h =
+      mixBits(packSample(mesh.footprint.x0, mesh.footprint.y0) ^ std::uint64_t(mesh.footprint.stride) << 20);
   for (const terrain::GridVertex& v : mesh.vertices) h = mixBits(h ^ (std::uint64_t(v.i) << 16 | v.j));
   for (const std::uint32_t index : mesh.indices) h = mixBits(h ^ index);
   return h;
@@ -52,7 +53,7 @@ struct TerrainPieces::Record {
   TerrainPieceKind kind = TerrainPieceKind::Block;
   terrain::NodeId node;
   std::uint64_t version = 0;
-  std::uint64_t source = 0;  // block: its mesh's revision; dikes: hash of the owned triangles
+  std::uint64_t source = 0;    // block: its mesh's revision; dikes: hash of the owned triangles
   std::uint64_t geometry = 0;  // block: blockHash of that mesh
   std::uint64_t lastFrame = 0;
   terrain::DikeVertex anchor;
@@ -215,8 +216,8 @@ void TerrainPieces::buildBlock(Record& record, const terrain::BlockMesh& mesh) {
   record.anchor = terrain::DikeVertex{footprint.x0, footprint.y0};
   record.vertices.clear();
   for (const terrain::GridVertex& v : mesh.vertices)
-    record.vertices.push_back(
-        gridVertex(m_field, footprint.x0 + v.i * footprint.stride, footprint.y0 + v.j * footprint.stride, record.anchor));
+    record.vertices.push_back(gridVertex(m_field, footprint.x0 + v.i * footprint.stride,
+                                         footprint.y0 + v.j * footprint.stride, record.anchor));
   record.indices.assign(mesh.indices.begin(), mesh.indices.end());
 }
 
@@ -239,7 +240,8 @@ void TerrainPieces::addDikes(std::span<const terrain::DikeVertex> vertices, std:
     // Order-free summary of the owned triangles: sum and xor of their hashes, and their count.
     std::uint64_t sum = 0, xored = 0;
     for (const std::uint32_t t : triangles) {
-      const std::uint64_t h = triangleHash(vertices[indices[3 * t]], vertices[indices[3 * t + 1]], vertices[indices[3 * t + 2]]);
+      const std::uint64_t h =
+          triangleHash(vertices[indices[3 * t]], vertices[indices[3 * t + 1]], vertices[indices[3 * t + 2]]);
       sum += h;
       xored ^= mixBits(h);
     }

@@ -60,8 +60,8 @@ class TerrainPieces {
   std::uint32_t touch(TerrainPieceKey key, bool& fresh);
   void publish(std::uint32_t record, bool fresh, bool rebuilt);
   void buildBlock(Record& record, const terrain::BlockMesh& mesh);
-  void buildDikes(Record& record, std::span<const terrain::DikeVertex> vertices,
-                  std::span<const std::uint32_t> indices, std::span<const std::uint32_t> triangles);
+  void buildDikes(Record& record, std::span<const terrain::DikeVertex> vertices, std::span<const std::uint32_t> indices,
+                  std::span<const std::uint32_t> triangles);
   terrain::DikeVertex anchorOf(const terrain::NodeId& node) const;
 
   const terrain::Heightfield& m_field;
@@ -69,7 +69,7 @@ class TerrainPieces {
   std::vector<std::unique_ptr<Record>> m_records;  // stable addresses: pieces point into them
   std::vector<std::uint32_t> m_freeRecords;
   std::unique_ptr<KeyIndex> m_index;
-  std::vector<std::uint32_t> m_live;  // records of the last finished frame
+  std::vector<std::uint32_t> m_live;             // records of the last finished frame
   std::vector<std::uint32_t> m_dikeRecords;      // this frame's dike pieces, in order
   std::vector<std::uint32_t> m_lastDikeRecords;  // the last finished frame's
   std::uint64_t m_frame = 0;

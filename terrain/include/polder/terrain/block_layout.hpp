@@ -54,7 +54,8 @@ class BlockLayout {
   static Result<BlockLayout> create(int width, int height, int k = 5) {
     if (width < 2 || height < 2)
       return makeError(ErrorKind::InvalidArgument, "a block layout needs at least 2 x 2 samples");
-    if (k < 1 || k > 7) return makeError(ErrorKind::InvalidArgument, "block size must be 2^k + 1 samples with k in 1..7");
+    if (k < 1 || k > 7)
+      return makeError(ErrorKind::InvalidArgument, "block size must be 2^k + 1 samples with k in 1..7");
     BlockLayout layout;
     layout.m_width = width;
     layout.m_height = height;
@@ -70,7 +71,7 @@ class BlockLayout {
   int width() const { return m_width; }
   int height() const { return m_height; }
   int k() const { return m_k; }
-  int cells() const { return 1 << m_k; }      // per side of a block's interior
+  int cells() const { return 1 << m_k; }        // per side of a block's interior
   int pitch() const { return (1 << m_k) + 1; }  // samples from one level-0 block to the next
   int rootLevel() const { return m_rootLevel; }
   NodeId root() const { return NodeId{std::uint8_t(m_rootLevel), 0, 0}; }

@@ -17,7 +17,7 @@ namespace polder::terrain {
 // full-resolution sample (x0 + i * stride, y0 + j * stride). A block of quadtree level L has
 // stride 2^L and spans 2^k * stride + 1 full-resolution samples per side.
 struct BlockFootprint {
-  int x0 = 0;      // full-resolution sample of block-local vertex (0, 0), its south-west corner
+  int x0 = 0;  // full-resolution sample of block-local vertex (0, 0), its south-west corner
   int y0 = 0;
   int k = 5;       // 2^k cells, 2^k + 1 vertices per side (k = 5: the 33 x 33 blocks of docs/design.md)
   int stride = 1;  // full-resolution samples from one vertex to the next, a power of two

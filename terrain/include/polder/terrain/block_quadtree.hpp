@@ -87,9 +87,9 @@
 #include <polder/camera.hpp>
 #include <polder/frustum.hpp>
 #include <polder/result.hpp>
-#include <polder/thread_pool.hpp>
 #include <polder/terrain/block_layout.hpp>
 #include <polder/terrain/heightfield.hpp>
+#include <polder/thread_pool.hpp>
 
 namespace polder::terrain {
 
@@ -162,9 +162,8 @@ class NodePredicate {
   NodePredicate() = default;
   template <class F, class = std::enable_if_t<!std::is_same_v<std::decay_t<F>, NodePredicate>>>
   NodePredicate(const F& callable)  // NOLINT: implicit, like std::function_ref
-      : m_object(&callable), m_call([](const void* object, NodeId node) {
-          return bool((*static_cast<const F*>(object))(node));
-        }) {}
+      : m_object(&callable),
+        m_call([](const void* object, NodeId node) { return bool((*static_cast<const F*>(object))(node)); }) {}
 
   explicit operator bool() const { return m_call != nullptr; }
   bool operator()(NodeId node) const { return m_call(m_object, node); }

@@ -33,19 +33,19 @@ struct DemOptions {
   std::optional<double> spacingM;  // overrides the file's georeferencing (metres, > 0)
   double zScale = 1.0;             // metres per stored unit (greyscale and raw)
   HeightEncoding encoding = HeightEncoding::Auto;
-  bool nodataEnabled = true;       // false: `--nodata none`, no value is a void
-  std::optional<RawLayout> raw;    // required for headerless raw files
+  bool nodataEnabled = true;     // false: `--nodata none`, no value is a void
+  std::optional<RawLayout> raw;  // required for headerless raw files
   // Refuse rasters whose heights need more bytes than this; 0 = the machine's physical memory.
   std::uint64_t memoryLimitBytes = 0;
 };
 
 struct DemInfo {
   std::string path;
-  std::string format;    // e.g. "png", "tiff", "geotiff", "openexr", "hgt", "raw"
-  std::string encoding;  // "greyscale", "terrain-rgb", "terrarium", "int16", "float32", ...
-  bool spacingAssumed = false;   // nothing gave a spacing: 1 m was used
-  std::int64_t voids = 0;        // no-data samples found (and filled)
-  double minM = 0.0;             // height range after void filling
+  std::string format;           // e.g. "png", "tiff", "geotiff", "openexr", "hgt", "raw"
+  std::string encoding;         // "greyscale", "terrain-rgb", "terrarium", "int16", "float32", ...
+  bool spacingAssumed = false;  // nothing gave a spacing: 1 m was used
+  std::int64_t voids = 0;       // no-data samples found (and filled)
+  double minM = 0.0;            // height range after void filling
   double maxM = 0.0;
 };
 

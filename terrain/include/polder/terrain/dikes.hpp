@@ -3,11 +3,10 @@
 //
 // Follows:
 // - J.-H. Chuang (莊榮宏), "Level-of-Detail Modeling Technique for Virtual Reality (I)", NSC
-//   89-2218-E-009-012 final report, National Chiao Tung University, 2001, part B: blocks with a dike between each pair of
-//   neighbours, triangulated every frame from the boundary vertices each block's current LOD
-//   kept, so that meshes of different resolution join without cracks. Here generalised to
-//   quadtree nodes of any level (dikes `stride` cells wide) and to neighbours that differ by
-//   any number of levels and LOD steps.
+//   89-2218-E-009-012 final report, National Chiao Tung University, 2001, part B: blocks with a dike between each pair
+//   of neighbours, triangulated every frame from the boundary vertices each block's current LOD kept, so that meshes of
+//   different resolution join without cracks. Here generalised to quadtree nodes of any level (dikes `stride` cells
+//   wide) and to neighbours that differ by any number of levels and LOD steps.
 //
 // The gap network. Interiors never touch (block_layout.hpp): east and north of every interior
 // lies its dike strip, `stride` cells wide (less where a footprint or a clipped interior meets

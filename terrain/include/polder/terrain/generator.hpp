@@ -55,9 +55,9 @@ struct DropletOptions {
 };
 
 struct GeneratorOptions {
-  int size = 1025;          // samples per side, 2..kMaxGeneratorSize
+  int size = 1025;  // samples per side, 2..kMaxGeneratorSize
   std::uint64_t seed = 1;
-  double spacingM = 30.0;   // metres between samples, 0.001..1e6
+  double spacingM = 30.0;  // metres between samples, 0.001..1e6
   ReliefOptions relief;
   FluvialOptions fluvial;
   ThermalOptions thermal;
@@ -71,8 +71,7 @@ inline constexpr int kMaxGeneratorSize = 16385;
 // when given, is called on the calling thread with a fraction rising from 0 to 1.
 // InvalidArgument for options out of range (the message names the option); OutOfMemory when
 // the working buffers cannot be allocated.
-Result<Heightfield> generateTerrain(const GeneratorOptions& options,
-                                    const std::function<void(float)>& progress = {});
+Result<Heightfield> generateTerrain(const GeneratorOptions& options, const std::function<void(float)>& progress = {});
 
 // The stages generateTerrain runs, for tools that want some of them (or erode their own DEM),
 // each at the resolution of the field it is given. They expect valid options (asserted), as

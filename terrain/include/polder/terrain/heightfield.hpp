@@ -21,10 +21,10 @@
 namespace polder::terrain {
 
 struct Heightfield {
-  int width = 0;   // samples west to east
-  int height = 0;  // samples south to north
-  double spacingX = 1.0;  // metres between samples along x (east)
-  double spacingY = 1.0;  // metres between samples along y (north)
+  int width = 0;               // samples west to east
+  int height = 0;              // samples south to north
+  double spacingX = 1.0;       // metres between samples along x (east)
+  double spacingY = 1.0;       // metres between samples along y (north)
   std::vector<float> heights;  // width * height metres, row-major, row 0 = south
 
   Heightfield() = default;

@@ -62,10 +62,10 @@ struct UniformMeshStats {
   float blockMaxErrorM = 0.0f;  // measured exactly, every triangle (rounded up to float)
   float dikeMaxErrorM = 0.0f;
   std::vector<std::size_t> nodesPerLevel;  // the cut's nodes by quadtree level
-  std::size_t rounds = 0;          // stitching rounds (1: no dike triangle failed)
-  std::size_t pinnedNodes = 0;     // nodes that keep side vertices for their dikes
-  std::size_t splitNodes = 0;      // coarse nodes split because of their dikes
-  std::size_t reextractions = 0;   // block extractions after phase 1's (pins, lowered thresholds, splits)
+  std::size_t rounds = 0;                  // stitching rounds (1: no dike triangle failed)
+  std::size_t pinnedNodes = 0;             // nodes that keep side vertices for their dikes
+  std::size_t splitNodes = 0;              // coarse nodes split because of their dikes
+  std::size_t reextractions = 0;           // block extractions after phase 1's (pins, lowered thresholds, splits)
 };
 
 struct UniformMesh {
@@ -76,7 +76,9 @@ struct UniformMesh {
   UniformMeshStats stats;
 
   std::size_t triangleCount() const { return stats.blockTriangles + stats.dikeTriangles; }
-  float maxErrorM() const { return stats.blockMaxErrorM > stats.dikeMaxErrorM ? stats.blockMaxErrorM : stats.dikeMaxErrorM; }
+  float maxErrorM() const {
+    return stats.blockMaxErrorM > stats.dikeMaxErrorM ? stats.blockMaxErrorM : stats.dikeMaxErrorM;
+  }
 };
 
 // The mesh of the bound (see the top). InvalidArgument for a bound outside the range, a bad

@@ -1,7 +1,8 @@
 // The triangle budget allocator: splits a budget P over LOD regions (terrain blocks and
 // mesh-object regions alike; docs/design.md "One frame", step 4).
 //
-// Follows ASLOD, D. Schmalstieg and A. Fuhrmann, "Coarse View-Dependent Levels of Detail for Hierarchical and Deformable Models", 1999, section 3 ("Level of detail selection"):
+// Follows ASLOD, D. Schmalstieg and A. Fuhrmann, "Coarse View-Dependent Levels of Detail for Hierarchical and
+// Deformable Models", 1999, section 3 ("Level of detail selection"):
 //     p_i = P * w_i^(1/alpha) / sum_j w_j^(1/alpha)
 // where w_i grows with the region's projected area (Schmalstieg & Tobler, JGT 1999; see
 // polder/lod/projected_area.hpp) and alpha attenuates it: alpha = 1 is proportional to

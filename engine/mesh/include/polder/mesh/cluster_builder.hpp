@@ -1,11 +1,10 @@
 // Builder `cluster`: view-independent LOD modelling by floating-cell vertex clustering
-// (J.-H. Chuang, "Level-of-Detail Modeling Technique for Virtual Reality (I)", 2001, part A). Each step picks the representative of lowest
-// cost, centres an axis-aligned cell of size tau on it, grows a spanning tree from it over
-// the current edges inside the cell, and gathers the tree onto it: several vertices per
-// step; triangles with two or three gathered corners vanish, the others are re-pointed
-// (no edge collapse's link condition: the paper simplifies topology too, though a step
-// never pinches the surface into a non-manifold edge). The representative is an original
-// vertex, so every level uses original vertices only (simplification_steps.hpp).
+// (J.-H. Chuang, "Level-of-Detail Modeling Technique for Virtual Reality (I)", 2001, part A). Each step picks the
+// representative of lowest cost, centres an axis-aligned cell of size tau on it, grows a spanning tree from it over the
+// current edges inside the cell, and gathers the tree onto it: several vertices per step; triangles with two or three
+// gathered corners vanish, the others are re-pointed (no edge collapse's link condition: the paper simplifies topology
+// too, though a step never pinches the surface into a non-manifold edge). The representative is an original vertex, so
+// every level uses original vertices only (simplification_steps.hpp).
 //
 // Vertices are classified once (simple, boundary, seam, sharp edge, corner, complex), and a
 // vertex only joins a representative that keeps its feature: sharp-edge vertices along

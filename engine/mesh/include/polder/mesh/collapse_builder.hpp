@@ -1,6 +1,6 @@
-// Builder `collapse`: the ASLOD cluster tree (D. Schmalstieg and A. Fuhrmann, "Coarse View-Dependent Levels of Detail for Hierarchical and Deformable Models", 1999, section 2)
-// grown by half-edge collapses: each step moves one vertex onto one of its neighbours, so
-// every level uses original vertices only. Collapses are taken cheapest first by the
+// Builder `collapse`: the ASLOD cluster tree (D. Schmalstieg and A. Fuhrmann, "Coarse View-Dependent Levels of Detail
+// for Hierarchical and Deformable Models", 1999, section 2) grown by half-edge collapses: each step moves one vertex
+// onto one of its neighbours, so every level uses original vertices only. Collapses are taken cheapest first by the
 // quadric error metric (Garland & Heckbert 1997) of the removed vertex's planes at the
 // neighbour's position (divided by the cluster's area to the power 0.8), plus an
 // attribute term: the area-weighted squared difference of

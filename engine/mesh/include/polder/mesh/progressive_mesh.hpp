@@ -1,5 +1,6 @@
 // A progressive mesh with regions: the multiresolution sequence of ASLOD
-// (D. Schmalstieg and A. Fuhrmann, "Coarse View-Dependent Levels of Detail for Hierarchical and Deformable Models", 1999, sections 2 and 4), assembled from a builder's steps.
+// (D. Schmalstieg and A. Fuhrmann, "Coarse View-Dependent Levels of Detail for Hierarchical and Deformable Models",
+// 1999, sections 2 and 4), assembled from a builder's steps.
 //
 // Every region owns its own sequence: its triangles (those holding two of its vertices)
 // ordered so the triangles alive after m of its steps are a prefix, and per step the
@@ -70,10 +71,12 @@ class RegionSequence {
   // The corner and border-table changes of step `step` (0 is the first step taken from the
   // original, i.e. the change between levels levelCount() and levelCount() - 1).
   std::span<const CornerChange> cornerChanges(std::size_t step) const {
-    return {m_cornerChanges.data() + m_cornerChangeBegin[step], m_cornerChangeBegin[step + 1] - m_cornerChangeBegin[step]};
+    return {m_cornerChanges.data() + m_cornerChangeBegin[step],
+            m_cornerChangeBegin[step + 1] - m_cornerChangeBegin[step]};
   }
   std::span<const CornerChange> borderChanges(std::size_t step) const {
-    return {m_borderChanges.data() + m_borderChangeBegin[step], m_borderChangeBegin[step + 1] - m_borderChangeBegin[step]};
+    return {m_borderChanges.data() + m_borderChangeBegin[step],
+            m_borderChangeBegin[step + 1] - m_borderChangeBegin[step]};
   }
   std::size_t memoryBytes() const;
 

@@ -58,11 +58,11 @@ class ProgressiveMeshInstance {
   };
   struct RegionState {
     std::uint32_t level = 0;
-    std::vector<std::uint32_t> indices;      // full size; the drawn part is a prefix
-    std::vector<std::uint32_t> borderTable;  // current representative of each border vertex
-    bool bordersStale = false;               // a neighbour this region reads has moved
-    bool foldsUnchecked = false;             // moved, or its borders did, since the last fold check
-    bool hasFlattenedPair = false;           // resolveBorders flattened a folded pair
+    std::vector<std::uint32_t> indices;           // full size; the drawn part is a prefix
+    std::vector<std::uint32_t> borderTable;       // current representative of each border vertex
+    bool bordersStale = false;                    // a neighbour this region reads has moved
+    bool foldsUnchecked = false;                  // moved, or its borders did, since the last fold check
+    bool hasFlattenedPair = false;                // resolveBorders flattened a folded pair
     std::vector<BorderTriangle> borderTriangles;  // resolveBorders' room, one per foreign corner
   };
 

@@ -1,6 +1,6 @@
-// Regions of a mesh (ASLOD, D. Schmalstieg and A. Fuhrmann, "Coarse View-Dependent Levels of Detail for Hierarchical and Deformable Models", 1999, section 4): the vertices are
-// partitioned into disjoint regions; a triangle belongs to the region holding at least
-// two of its vertices (three different regions: the lowest region id). Steps never join
+// Regions of a mesh (ASLOD, D. Schmalstieg and A. Fuhrmann, "Coarse View-Dependent Levels of Detail for Hierarchical
+// and Deformable Models", 1999, section 4): the vertices are partitioned into disjoint regions; a triangle belongs to
+// the region holding at least two of its vertices (three different regions: the lowest region id). Steps never join
 // vertices of different regions, so every region can take its own level of detail.
 #pragma once
 

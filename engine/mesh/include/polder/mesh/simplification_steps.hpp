@@ -16,7 +16,7 @@
 namespace polder::mesh {
 
 struct SimplificationSteps {
-  std::vector<std::uint32_t> representative;  // per step
+  std::vector<std::uint32_t> representative;   // per step
   std::vector<std::uint32_t> removedBegin{0};  // per step + 1: offsets into removed
   std::vector<std::uint32_t> removed;          // vertices gathered by each step
   std::vector<std::uint32_t> onto;             // per removed vertex: the active vertex taking its place

@@ -54,7 +54,7 @@ namespace polder::mesh_io {
 
 struct MeshReadOptions {
   bool weldPositions = true;
-  bool keepUvSeams = false;  // with weldPositions: weld only vertices with equal texture coordinates
+  bool keepUvSeams = false;           // with weldPositions: weld only vertices with equal texture coordinates
   std::filesystem::path bakeTexture;  // empty: none
 };
 
@@ -64,7 +64,8 @@ struct MeshWriteOptions {
   bool binary = true;  // PLY only
 };
 
-Status writeMesh(const std::filesystem::path& file, const mesh::TriangleMesh& mesh, const MeshWriteOptions& options = {});
+Status writeMesh(const std::filesystem::path& file, const mesh::TriangleMesh& mesh,
+                 const MeshWriteOptions& options = {});
 
 // Writes bytes as writeMesh writes a mesh: under a temporary name beside the file, then
 // renamed, so a failed write leaves no partial file (for reports written beside meshes).

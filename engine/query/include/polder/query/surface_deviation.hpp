@@ -4,11 +4,11 @@
 //
 // Both surfaces are sampled: area-weighted uniform random points (deterministic from the
 // seed, whatever the thread count; stratified: the i-th of n falls in the i-th of n
-// equal-area slices of the triangles in index order) plus every vertex some triangle uses. Each sample's distance to the other surface
-// is exact — the closest point on the other mesh's triangles, found with Embree point
-// queries and computed in double precision — so vertices pushed out or pulled in by the
-// simplification are measured exactly, and the random samples cover the faces between.
-// Zero-area triangles take part as their edges and never receive random samples.
+// equal-area slices of the triangles in index order) plus every vertex some triangle uses. Each sample's distance to
+// the other surface is exact — the closest point on the other mesh's triangles, found with Embree point queries and
+// computed in double precision — so vertices pushed out or pulled in by the simplification are measured exactly, and
+// the random samples cover the faces between. Zero-area triangles take part as their edges and never receive random
+// samples.
 //
 // The two meshes need not share a vertex table; the simplified one may also reuse the
 // original's positions with fewer indices (unused vertices are not sampled).

@@ -97,8 +97,7 @@ class Renderer {
   // entry point Polder uses, and compiles the shaders. Errors (kind Environment): no context
   // current, a loader that finds nothing, too old a version, a missing function, a shader
   // that fails to compile or link (with the driver's log). An empty loader is InvalidArgument.
-  static Result<std::unique_ptr<Renderer>> create(const GlProcLoader& loader,
-                                                  const RendererOptions& options = {});
+  static Result<std::unique_ptr<Renderer>> create(const GlProcLoader& loader, const RendererOptions& options = {});
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;

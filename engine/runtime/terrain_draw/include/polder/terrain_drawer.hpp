@@ -31,11 +31,11 @@ enum class TerrainDebugView { None, Lod, Dikes, Wire };
 
 struct TerrainDrawStats {
   std::size_t residentPieces = 0;
-  std::size_t residentBytes = 0;      // GPU bytes of the resident pieces
-  std::size_t uploadedBytes = 0;      // by the last sync()
-  std::size_t piecesUploaded = 0;     // by the last sync()
-  std::size_t piecesReleased = 0;     // by the last sync()
-  std::size_t uploadFailures = 0;     // pieces the last sync() could not upload (not drawn)
+  std::size_t residentBytes = 0;   // GPU bytes of the resident pieces
+  std::size_t uploadedBytes = 0;   // by the last sync()
+  std::size_t piecesUploaded = 0;  // by the last sync()
+  std::size_t piecesReleased = 0;  // by the last sync()
+  std::size_t uploadFailures = 0;  // pieces the last sync() could not upload (not drawn)
 };
 
 class TerrainDrawer {

@@ -37,19 +37,14 @@ struct GlfwWindowOptions {
 };
 
 // The keys the flyover reads.
-enum class Key : std::size_t {
-  W, A, S, D, Q, E,
-  Up, Down, Left, Right,
-  LeftShift, RightShift, Space, Escape,
-  Count
-};
+enum class Key : std::size_t { W, A, S, D, Q, E, Up, Down, Left, Right, LeftShift, RightShift, Space, Escape, Count };
 
 // What the user did since the previous pollEvents().
 struct InputState {
   std::array<bool, std::size_t(Key::Count)> keys{};  // held at the last poll
-  glm::dvec2 mouseDelta{0.0};  // cursor movement in screen coordinates, +y downwards
-  double scrollDelta = 0.0;    // wheel steps, + away from the user
-  bool leftButton = false;     // held at the last poll
+  glm::dvec2 mouseDelta{0.0};                        // cursor movement in screen coordinates, +y downwards
+  double scrollDelta = 0.0;                          // wheel steps, + away from the user
+  bool leftButton = false;                           // held at the last poll
   bool rightButton = false;
 
   bool held(Key key) const { return keys[std::size_t(key)]; }

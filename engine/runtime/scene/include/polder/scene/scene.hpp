@@ -1,6 +1,6 @@
-// The scene graph with the allocator at its root (ASLOD, D. Schmalstieg and A. Fuhrmann, "Coarse View-Dependent Levels of Detail for Hierarchical and Deformable Models", 1999,
-// sections 3, 4 and 6): nodes with hierarchical, animated transforms; nodes that show a
-// model hold their own instance of its progressive mesh (their own LOD cache), so several
+// The scene graph with the allocator at its root (ASLOD, D. Schmalstieg and A. Fuhrmann, "Coarse View-Dependent Levels
+// of Detail for Hierarchical and Deformable Models", 1999, sections 3, 4 and 6): nodes with hierarchical, animated
+// transforms; nodes that show a model hold their own instance of its progressive mesh (their own LOD cache), so several
 // instances of one model sit at different levels; terrain blocks and mesh regions are the
 // same kind of region, and one allocator splits one triangle budget over all of those in
 // view, weighted by their projected oriented-bounding-box area (attenuated by alpha). In

@@ -24,8 +24,8 @@ namespace polder::scene {
 // A DEM file and what to keep of it.
 struct DemDescription {
   std::filesystem::path file;
-  terrain::DemOptions options;                // spacing, height scale, ...
-  std::optional<glm::ivec2> cropSamples;      // keep the central width x height samples
+  terrain::DemOptions options;            // spacing, height scale, ...
+  std::optional<glm::ivec2> cropSamples;  // keep the central width x height samples
 };
 
 struct TerrainDescription {
@@ -81,8 +81,8 @@ struct NodeDescription {
 
 struct CameraPathDescription {
   enum class Kind { Static, Flyover, Orbit, File };
-  Kind kind = Kind::Static;   // Static: the lens's own pose
-  double altitudeM = 300.0;   // Flyover and Orbit, over the terrain (which they need)
+  Kind kind = Kind::Static;  // Static: the lens's own pose
+  double altitudeM = 300.0;  // Flyover and Orbit, over the terrain (which they need)
   double speedMps = 150.0;
   std::filesystem::path file;  // File: "t x y z yaw pitch" lines (CameraPath::parse)
 };
