@@ -26,6 +26,7 @@ struct Silhouette {
   std::array<std::uint8_t, 6> corners;
 };
 
+// clang-format off
 constexpr std::array<Silhouette, 64> kSilhouettes = {{
     {0, {}},                  //  0: eye inside
     {4, {0, 2, 6, 4}},        //  1: x-
@@ -70,44 +71,18 @@ constexpr std::array<Silhouette, 64> kSilhouettes = {{
     {6, {2, 3, 7, 5, 4, 6}},  // 40: y+ z+
     {6, {0, 2, 3, 7, 5, 4}},  // 41: x- y+ z+
     {6, {1, 3, 2, 6, 4, 5}},  // 42: x+ y+ z+
-    {0, {}},
-    {0, {}},
-    {0, {}},
-    {0, {}},
-    {0, {}},  // 43-47: impossible
-    {0, {}},
-    {0, {}},
-    {0, {}},
-    {0, {}},
-    {0, {}},
-    {0, {}},
-    {0, {}},
-    {0, {}},  // 48-55
-    {0, {}},
-    {0, {}},
-    {0, {}},
-    {0, {}},
-    {0, {}},
-    {0, {}},
-    {0, {}},
-    {0, {}},  // 56-63
+    {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}},  // 43-47: impossible
+    {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}},  // 48-55
+    {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}}, {0, {}},  // 56-63
 }};
 
 // The 12 box edges as corner pairs (the corners differ in one bit).
 constexpr std::array<std::pair<std::uint8_t, std::uint8_t>, 12> kEdges = {{
-    {0, 1},
-    {2, 3},
-    {4, 5},
-    {6, 7},  // along axis 0
-    {0, 2},
-    {1, 3},
-    {4, 6},
-    {5, 7},  // along axis 1
-    {0, 4},
-    {1, 5},
-    {2, 6},
-    {3, 7},  // along axis 2
+    {0, 1}, {2, 3}, {4, 5}, {6, 7},  // along axis 0
+    {0, 2}, {1, 3}, {4, 6}, {5, 7},  // along axis 1
+    {0, 4}, {1, 5}, {2, 6}, {3, 7},  // along axis 2
 }};
+// clang-format on
 
 // A clipped box has at most 8 corners in front plus one crossing per edge; the viewport
 // clip adds at most one vertex per rectangle side.
