@@ -116,9 +116,27 @@ int reportError(const Error& error) {
   return error.kind == ErrorKind::InvalidArgument ? kExitUsage : kExitData;
 }
 
-ProgressBar::ProgressBar(std::string label) : m_label(std::move(label)), m_interactive(::isatty(STDERR_FILENO) != 0) {}
+ProgressBar::ProgressBar(std::string label)
+    : m_label(std::move(label)),
+      m_interactive(::isatty(STDERR_FILENO) != 0),
+      m_start(std::chrono::steady_clock::now()) {}
 
 ProgressBar::~ProgressBar() { finish(); }
+
+namespace {
+
+// "1:05" or "1:02:05".
+std::string formatDuration(double seconds) {
+  const long total = std::lround(std::max(seconds, 0.0));
+  char text[32];
+  if (total >= 3600)
+    std::snprintf(text, sizeof text, "%ld:%02ld:%02ld", total / 3600, total / 60 % 60, total % 60);
+  else
+    std::snprintf(text, sizeof text, "%ld:%02ld", total / 60, total % 60);
+  return text;
+}
+
+}  // namespace
 
 void ProgressBar::update(float fraction) {
   if (!m_interactive || m_finished) return;
@@ -126,16 +144,24 @@ void ProgressBar::update(float fraction) {
   if (now - m_lastDraw < std::chrono::milliseconds(100) && fraction < 1.0f) return;
   m_lastDraw = now;
   constexpr int kWidth = 32;
+  fraction = std::clamp(fraction, 0.0f, 1.0f);
   const int filled = std::clamp(int(fraction * kWidth + 0.5f), 0, kWidth);
-  std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%", m_label.c_str(), filled, "################################",
-               kWidth - filled, "", int(std::clamp(fraction, 0.0f, 1.0f) * 100.0f + 0.5f));
+  const double elapsed = std::chrono::duration<double>(now - m_start).count();
+  // The rate so far predicts the rest; say nothing until there is a rate to go on.
+  const std::string eta =
+      fraction > 0.01f && elapsed > 1.0 ? "  ETA " + formatDuration(elapsed * (1.0 - fraction) / fraction) : "";
+  std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%  %s%s   ", m_label.c_str(), filled, "################################",
+               kWidth - filled, "", int(fraction * 100.0f + 0.5f), formatDuration(elapsed).c_str(), eta.c_str());
   std::fflush(stderr);
 }
 
 void ProgressBar::finish() {
   if (m_finished) return;
   m_finished = true;
-  if (m_interactive) std::fprintf(stderr, "\r%s [################################] 100%%\n", m_label.c_str());
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+  if (m_interactive)
+    std::fprintf(stderr, "\r%s [################################] 100%%  %s%*s\n", m_label.c_str(),
+                 formatDuration(elapsed).c_str(), 16, "");
 }
 
 }  // namespace polder::cli

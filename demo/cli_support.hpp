@@ -52,7 +52,8 @@ void fitClipPlanes(Camera& camera, const terrain::Heightfield& field);
 int reportError(const Error& error);
 
 // A one-line progress bar on stderr, redrawn at most every 100 ms; silent when stderr is not
-// a terminal except for the final line.
+// a terminal except for the final line. Shows the time so far and, once the rate is known, an
+// estimate of the time left.
 class ProgressBar {
  public:
   explicit ProgressBar(std::string label);
@@ -64,6 +65,7 @@ class ProgressBar {
   std::string m_label;
   bool m_interactive;
   bool m_finished = false;
+  std::chrono::steady_clock::time_point m_start;
   std::chrono::steady_clock::time_point m_lastDraw{};
 };
 
