@@ -225,6 +225,52 @@ Result<BlockLod> BlockLod::build(const Heightfield& field, const BlockFootprint&
   return lod;
 }
 
+Result<BlockLod> BlockLod::buildFromLevel(const Heightfield& samples, const BlockFootprint& footprint,
+                                          float residualM) {
+  assert(footprint.stride >= 1 && std::has_single_bit(unsigned(footprint.stride)) &&
+         "BlockLod::buildFromLevel: stride must be a power of two");
+  if (!(residualM >= 0.0f))
+    return makeError(ErrorKind::InvalidArgument, "BlockLod::buildFromLevel: the residual must be >= 0");
+  BlockLod lod;
+  Status status = lod.rebuild(samples, BlockFootprint{0, 0, footprint.k, 1});
+  if (!status) return status.error();
+  if (footprint.stride == 1 && residualM == 0.0f) {
+    lod.m_footprint = footprint;
+    lod.m_origin = glm::dvec3(footprint.x0 * samples.spacingX, footprint.y0 * samples.spacingY, 0.0);
+    return lod;
+  }
+  // Against the level surface every half cell's error is what build() at stride 1 finds on the
+  // fly (the gap at its centre, or 0 for a half cut like that surface); kept per half cell here,
+  // as at any stride above 1, since the full-resolution surface is not the level's.
+  const int n = footprint.cells();
+  lod.m_leafError.assign(2 * std::size_t(n) * std::size_t(n), residualM);
+  for (int cj = 0; cj < lod.m_cellsY; ++cj)
+    for (int ci = 0; ci < lod.m_cellsX; ++ci) {
+      const bool cutLikeSurface = ((ci + cj) & 1) != 0;
+      const float gap = cutLikeSurface ? 0.0f
+                                       : roundUp(cellCentreGap(lod.height(ci, cj), lod.height(ci + 1, cj),
+                                                               lod.height(ci, cj + 1), lod.height(ci + 1, cj + 1)));
+      for (int sideIndex = 0; sideIndex < 2; ++sideIndex)
+        lod.m_leafError[(std::size_t(cj) * n + ci) * 2 + sideIndex] = roundUp(double(gap) + residualM);
+    }
+  const int side = n + 1;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const std::size_t v = std::size_t(j) * side + i;
+      const bool corner = (i == 0 || i == n) && (j == 0 || j == n);
+      if (!corner) lod.m_error[v] = roundUp(double(lod.m_error[v]) + residualM);  // +inf stays
+      lod.m_radius[v] = roundUp(double(lod.m_radius[v]) + residualM);
+      for (int t = 0; t < 2; ++t)
+        lod.m_triangleError[2 * v + t] = roundUp(double(lod.m_triangleError[2 * v + t]) + residualM);
+    }
+  lod.m_maxError = roundUp(double(lod.m_maxError) + residualM);
+  lod.m_floorError = *std::max_element(lod.m_leafError.begin(), lod.m_leafError.end());
+  lod.m_footprint = footprint;
+  const double fullSpacingX = samples.spacingX / footprint.stride, fullSpacingY = samples.spacingY / footprint.stride;
+  lod.m_origin = glm::dvec3(footprint.x0 * fullSpacingX, footprint.y0 * fullSpacingY, 0.0);
+  return lod;
+}
+
 Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {
   assert(fp.k >= 1 && fp.k <= kRtinMaxK && "BlockLod::build: k must be in 1..kRtinMaxK");
   assert(fp.stride >= 1 && std::has_single_bit(unsigned(fp.stride)) &&

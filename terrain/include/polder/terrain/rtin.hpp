@@ -141,6 +141,17 @@ class BlockLod {
   static Result<BlockLod> build(const Heightfield& field, const BlockFootprint& footprint);
   // Same, reusing this object's memory.
   Status rebuild(const Heightfield& field, const BlockFootprint& footprint);
+  // The hierarchy of `footprint` from its own strided vertices only, as a pyramid tile holds
+  // them (docs/streaming.md): `samples` has vertex (i, j) of the block at (i, j), spacing
+  // stride times the full-resolution spacing (fewer than 2^k + 1 columns or rows for a block
+  // clipped by the DEM's edge). Its errors are exact against the level surface (the samples
+  // triangulated as heightfield.hpp cuts cells) plus `residualM`, a bound on how far the
+  // full-resolution surface lies from the level surface over the block, so they bound the
+  // errors build() would find against the full resolution. At stride 1 `samples` is the
+  // full resolution, residualM is 0 and the result is build()'s. At a stride above 1 half
+  // cells are not flipped, as in build(): each keeps its error, at least residualM, and so
+  // does floorError().
+  static Result<BlockLod> buildFromLevel(const Heightfield& samples, const BlockFootprint& footprint, float residualM);
 
   // (a) View-dependent: the conforming mesh of the vertices active for `view` (see LodView).
   // `pins`, when given, adds its side vertices and, to keep the mesh conforming, every vertex
