@@ -1,0 +1,335 @@
+// The terrain pyramid: what buildPyramid writes agrees with the block quadtree built from the
+// whole field (exact ranges, exact level-0 errors, bounds at coarser levels), tiles hold the
+// strided samples, and a pyramid that is corrupt, truncated or unfinished does not open or
+// read as valid.
+#include <polder/terrain/pyramid.hpp>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <polder/terrain/block_quadtree.hpp>
+#include <polder/terrain/dike_errors.hpp>
+#include <polder/terrain/pyramid_build.hpp>
+#include <polder/terrain/rtin.hpp>
+#include <polder/thread_pool.hpp>
+
+namespace polder::terrain {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Hills, a ridge, a plateau, a lake and per-sample noise, at a size that clips edge blocks.
+Heightfield makeField(int width, int height, std::uint64_t seed) {
+  Heightfield field(width, height, 30.0, 25.0);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> noise(-4.0, 4.0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      double h = 400.0 + 250.0 * std::sin(x * 0.031) * std::cos(y * 0.027) +
+                 120.0 * std::abs(std::sin(0.011 * (x + 2 * y))) + 40.0 * std::sin(x * 0.21 + y * 0.17) + noise(rng);
+      if (x > width / 2 && y > height / 2) h = std::min(h, 520.0);
+      if (x < width / 4 && y < height / 4) h = 300.0;
+      field.at(x, y) = float(h);
+    }
+  return field;
+}
+
+class TempFolder {
+ public:
+  TempFolder() : m_path(fs::temp_directory_path() / ("polder-pyramid-" + std::to_string(::getpid()))) {
+    fs::create_directories(m_path);
+  }
+  ~TempFolder() { fs::remove_all(m_path); }
+  const fs::path& path() const { return m_path; }
+
+ private:
+  fs::path m_path;
+};
+
+fs::path buildOrFail(const Heightfield& field, const fs::path& out, PyramidBuildOptions options = {}) {
+  HeightfieldRows rows(field);
+  auto report = buildPyramid(rows, out, options);
+  EXPECT_TRUE(report.ok()) << (report.ok() ? "" : report.error().message);
+  return out;
+}
+
+std::unique_ptr<Pyramid> openOrFail(const fs::path& path) {
+  auto pyramid = Pyramid::open(path);
+  EXPECT_TRUE(pyramid.ok()) << (pyramid.ok() ? "" : pyramid.error().message);
+  return pyramid.ok() ? std::move(pyramid).value() : nullptr;
+}
+
+template <class F>
+void forEachNode(const BlockLayout& layout, F&& f) {
+  for (int level = 0; level <= layout.rootLevel(); ++level)
+    for (int by = 0; by < layout.nodesY(level); ++by)
+      for (int bx = 0; bx < layout.nodesX(level); ++bx)
+        f(NodeId{std::uint8_t(level), std::uint32_t(bx), std::uint32_t(by)});
+}
+
+std::string name(const NodeId& n) {
+  return "node " + std::to_string(n.level) + "/" + std::to_string(n.bx) + "/" + std::to_string(n.by);
+}
+
+TEST(Pyramid, NodesAgreeWithTheQuadtreeOfTheWholeField) {
+  const Heightfield field = makeField(301, 219, 11);
+  TempFolder folder;
+  core::ThreadPool pool(2);
+  PyramidBuildOptions options;
+  options.pool = &pool;
+  auto pyramid = openOrFail(buildOrFail(field, folder.path() / "hills.pyr", options));
+  ASSERT_NE(pyramid, nullptr);
+  const auto layout = BlockLayout::create(field.width, field.height).value();
+  ASSERT_EQ(pyramid->layout().rootLevel(), layout.rootLevel());
+  ASSERT_GE(layout.rootLevel(), 3);
+  const auto tree = BlockQuadtree::build(field, layout).value();
+  const auto [lo, hi] = field.heightRange();
+  EXPECT_EQ(pyramid->header().minHeight, lo);
+  EXPECT_EQ(pyramid->header().maxHeight, hi);
+  int boundedStrictly = 0;
+  forEachNode(layout, [&](const NodeId& node) {
+    const PyramidNode& p = pyramid->node(node);
+    const NodeInfo& t = tree.info(node);
+    EXPECT_EQ(p.minHeight, t.minHeight) << name(node);
+    EXPECT_EQ(p.maxHeight, t.maxHeight) << name(node);
+    EXPECT_EQ(p.dikeRange, dikeErrorBound(field, layout, node)) << name(node);
+    if (node.level == 0) {
+      EXPECT_EQ(p.residual, 0.0f);
+      EXPECT_EQ(p.lodError, t.lodError) << name(node);
+      EXPECT_EQ(p.floorError, t.floorError) << name(node);
+      return;
+    }
+    EXPECT_GT(p.residual, 0.0f) << name(node);
+    // Bounds of the full-resolution errors, never below them.
+    EXPECT_GE(p.lodError, t.lodError) << name(node);
+    EXPECT_GE(p.floorError, t.floorError) << name(node);
+    EXPECT_GE(p.floorError, p.residual) << name(node);
+    if (std::isfinite(t.lodError) && p.lodError > t.lodError) ++boundedStrictly;
+    EXPECT_EQ(std::isfinite(p.lodError), std::isfinite(t.lodError)) << name(node);
+  });
+  EXPECT_GT(boundedStrictly, 0);
+}
+
+// White noise: the level surfaces miss most of it, so the bounds rest on the residuals.
+TEST(Pyramid, ErrorBoundsHoldOnRoughTerrain) {
+  Heightfield field(203, 171, 10.0, 10.0);
+  std::mt19937_64 rng(99);
+  std::uniform_real_distribution<double> noise(-50.0, 50.0);
+  for (float& h : field.heights) h = float(100.0 + noise(rng));
+  TempFolder folder;
+  auto pyramid = openOrFail(buildOrFail(field, folder.path() / "rough.pyr"));
+  ASSERT_NE(pyramid, nullptr);
+  const auto tree = BlockQuadtree::build(field, pyramid->layout()).value();
+  forEachNode(pyramid->layout(), [&](const NodeId& node) {
+    EXPECT_GE(pyramid->node(node).lodError, tree.info(node).lodError) << name(node);
+    EXPECT_GE(pyramid->node(node).floorError, tree.info(node).floorError) << name(node);
+  });
+}
+
+TEST(Pyramid, TilesHoldTheStridedSamplesOfTheirFootprint) {
+  const Heightfield field = makeField(170, 140, 5);
+  TempFolder folder;
+  auto pyramid = openOrFail(buildOrFail(field, folder.path() / "t.pyr"));
+  ASSERT_NE(pyramid, nullptr);
+  const BlockLayout& layout = pyramid->layout();
+  PyramidTile tile;
+  forEachNode(layout, [&](const NodeId& node) {
+    ASSERT_TRUE(pyramid->readTile(node, tile).ok()) << name(node);
+    const SampleRect area = layout.footprint(node);
+    const int s = layout.stride(node);
+    EXPECT_EQ(tile.node, node);
+    ASSERT_EQ(tile.samples.width, (area.x1 - area.x0) / s + 1) << name(node);
+    ASSERT_EQ(tile.samples.height, (area.y1 - area.y0) / s + 1) << name(node);
+    EXPECT_EQ(tile.samples.spacingX, field.spacingX * s);
+    for (int j = 0; j < tile.samples.height; ++j)
+      for (int i = 0; i < tile.samples.width; ++i)
+        ASSERT_EQ(tile.samples.at(i, j), field.at(area.x0 + i * s, area.y0 + j * s)) << name(node);
+  });
+  for (int y = 0; y < field.height; ++y) EXPECT_EQ(pyramid->eastBorder()[std::size_t(y)], field.at(field.width - 1, y));
+  for (int x = 0; x < field.width; ++x)
+    EXPECT_EQ(pyramid->northBorder()[std::size_t(x)], field.at(x, field.height - 1));
+}
+
+TEST(Pyramid, ATileBuildsTheSameHierarchyAsTheFullResolutionAtLevelZero) {
+  const Heightfield field = makeField(100, 100, 3);
+  TempFolder folder;
+  auto pyramid = openOrFail(buildOrFail(field, folder.path() / "l0.pyr"));
+  ASSERT_NE(pyramid, nullptr);
+  PyramidTile tile;
+  const NodeId node{0, 1, 1};
+  ASSERT_TRUE(pyramid->readTile(node, tile).ok());
+  const BlockFootprint fp = pyramid->layout().interior(node);
+  const auto fromTile = BlockLod::buildFromLevel(tile.samples, fp, 0.0f).value();
+  const auto fromField = BlockLod::build(field, fp).value();
+  EXPECT_EQ(fromTile.maxError(), fromField.maxError());
+  EXPECT_EQ(fromTile.floorError(), fromField.floorError());
+  RtinScratch scratch;
+  for (float tau : {0.0f, 0.5f, 3.0f, 20.0f}) {
+    BlockMesh a, b;
+    fromTile.extractThreshold(tau, a, scratch);
+    fromField.extractThreshold(tau, b, scratch);
+    EXPECT_EQ(a.indices, b.indices) << "tau " << tau;
+    EXPECT_EQ(a.maxError, b.maxError) << "tau " << tau;
+    EXPECT_EQ(a.vertices.size(), b.vertices.size()) << "tau " << tau;
+  }
+}
+
+TEST(Pyramid, TheResultDoesNotDependOnThreads) {
+  const Heightfield field = makeField(240, 200, 8);
+  TempFolder folder;
+  core::ThreadPool pool(3);
+  PyramidBuildOptions threaded;
+  threaded.pool = &pool;
+  const fs::path a = buildOrFail(field, folder.path() / "a.pyr");
+  const fs::path b = buildOrFail(field, folder.path() / "b.pyr", threaded);
+  std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
+  const std::string bytesA((std::istreambuf_iterator<char>(fa)), {}), bytesB((std::istreambuf_iterator<char>(fb)), {});
+  EXPECT_EQ(bytesA.size(), fs::file_size(a));
+  EXPECT_TRUE(bytesA == bytesB);
+}
+
+// Flips one byte of a file in place.
+void flipByte(const fs::path& path, std::uint64_t offset) {
+  std::fstream file(path, std::ios::binary | std::ios::in | std::ios::out);
+  file.seekg(std::streamoff(offset));
+  char c = 0;
+  file.get(c);
+  file.seekp(std::streamoff(offset));
+  file.put(char(c ^ 0x10));
+}
+
+TEST(Pyramid, ACorruptTileIsAnErrorNamingTheFileAndNode) {
+  const Heightfield field = makeField(140, 140, 9);
+  TempFolder folder;
+  const fs::path path = buildOrFail(field, folder.path() / "bad.pyr");
+  const NodeId victim{0, 2, 1};
+  std::uint64_t slotOffset = 0;
+  {
+    auto pyramid = openOrFail(path);
+    ASSERT_NE(pyramid, nullptr);
+    slotOffset = pyramid->header().tilesOffset + pyramid->nodeIndex(victim) * pyramid->header().tileSlotBytes;
+  }
+  flipByte(path, slotOffset + 16 + 4 * 40);  // a sample
+  auto pyramid = openOrFail(path);           // the header and tables are intact
+  ASSERT_NE(pyramid, nullptr);
+  PyramidTile tile;
+  const Status status = pyramid->readTile(victim, tile);
+  ASSERT_FALSE(status.ok());
+  EXPECT_EQ(status.error().kind, ErrorKind::InvalidData);
+  EXPECT_NE(status.error().message.find(path.string()), std::string::npos) << status.error().message;
+  EXPECT_NE(status.error().message.find("level 0, 2, 1"), std::string::npos) << status.error().message;
+  EXPECT_TRUE(pyramid->readTile(NodeId{0, 1, 1}, tile).ok());  // the others still read
+}
+
+TEST(Pyramid, ACorruptHeaderNodeTableOrBorderDoesNotOpen) {
+  const Heightfield field = makeField(140, 140, 9);
+  TempFolder folder;
+  const fs::path clean = buildOrFail(field, folder.path() / "clean.pyr");
+  std::uint64_t nodesOffset = 0, borderOffset = 0;
+  {
+    auto pyramid = openOrFail(clean);
+    ASSERT_NE(pyramid, nullptr);
+    nodesOffset = pyramid->header().nodesOffset;
+    borderOffset = pyramid->header().borderOffset;
+  }
+  for (std::uint64_t offset : {std::uint64_t(0), std::uint64_t(20), nodesOffset + 30, borderOffset + 8}) {
+    const fs::path copy = folder.path() / ("c" + std::to_string(offset) + ".pyr");
+    fs::copy_file(clean, copy);
+    flipByte(copy, offset);
+    auto pyramid = Pyramid::open(copy);
+    ASSERT_FALSE(pyramid.ok()) << "byte " << offset;
+    EXPECT_EQ(pyramid.error().kind, ErrorKind::InvalidData);
+    EXPECT_NE(pyramid.error().message.find(copy.string()), std::string::npos) << pyramid.error().message;
+  }
+}
+
+TEST(Pyramid, ATruncatedPyramidDoesNotOpen) {
+  const Heightfield field = makeField(140, 140, 9);
+  TempFolder folder;
+  const fs::path path = buildOrFail(field, folder.path() / "short.pyr");
+  const auto size = fs::file_size(path);
+  for (std::uintmax_t keep : {size - 1, size / 2, std::uintmax_t(100), std::uintmax_t(0)}) {
+    fs::resize_file(path, keep);
+    auto pyramid = Pyramid::open(path);
+    ASSERT_FALSE(pyramid.ok()) << keep;
+    EXPECT_NE(pyramid.error().message.find(path.string()), std::string::npos) << pyramid.error().message;
+  }
+}
+
+// A source whose rows fail part way, as a truncated DEM does.
+class FailingRows final : public HeightRows {
+ public:
+  explicit FailingRows(const Heightfield& field, int failAt) : m_rows(field), m_failAt(failAt) {}
+  int width() const override { return m_rows.width(); }
+  int height() const override { return m_rows.height(); }
+  double spacingX() const override { return m_rows.spacingX(); }
+  double spacingY() const override { return m_rows.spacingY(); }
+  Status readRows(int y0, int count, std::span<float> out) override {
+    if (y0 + count > m_failAt) return makeError(ErrorKind::InvalidData, "source.tif: cut short at row 150");
+    return m_rows.readRows(y0, count, out);
+  }
+
+ private:
+  HeightfieldRows m_rows;
+  int m_failAt;
+};
+
+TEST(Pyramid, AFailedPrepLeavesNothingBehind) {
+  Heightfield field = makeField(200, 200, 4);
+  TempFolder folder;
+  const fs::path out = folder.path() / "never.pyr";
+  FailingRows failing(field, 150);
+  auto report = buildPyramid(failing, out);
+  ASSERT_FALSE(report.ok());
+  EXPECT_NE(report.error().message.find("source.tif"), std::string::npos);
+  field.at(17, 120) = std::nanf("");
+  HeightfieldRows withNaN(field);
+  PyramidBuildOptions named;
+  named.sourceName = "nan.tif";
+  report = buildPyramid(withNaN, out, named);
+  ASSERT_FALSE(report.ok());
+  EXPECT_EQ(report.error().kind, ErrorKind::InvalidData);
+  EXPECT_NE(report.error().message.find("nan.tif: sample (17, 120)"), std::string::npos) << report.error().message;
+  EXPECT_TRUE(fs::is_empty(folder.path())) << "a partial file was left";
+}
+
+TEST(Pyramid, AnUnfinishedFileDoesNotOpen) {
+  // What a killed prep leaves before its rename: everything but the magic.
+  const Heightfield field = makeField(120, 120, 2);
+  TempFolder folder;
+  const fs::path path = buildOrFail(field, folder.path() / "killed.pyr");
+  {
+    std::fstream file(path, std::ios::binary | std::ios::in | std::ios::out);
+    file.write("\0\0\0\0\0\0\0\0", 8);
+  }
+  auto pyramid = Pyramid::open(path);
+  ASSERT_FALSE(pyramid.ok());
+  EXPECT_NE(pyramid.error().message.find("not a Polder pyramid"), std::string::npos) << pyramid.error().message;
+}
+
+TEST(Pyramid, BadOptionsAreRefused) {
+  const Heightfield field = makeField(64, 64, 1);
+  TempFolder folder;
+  HeightfieldRows rows(field);
+  PyramidBuildOptions options;
+  options.k = 9;
+  auto report = buildPyramid(rows, folder.path() / "k.pyr", options);
+  ASSERT_FALSE(report.ok());
+  EXPECT_EQ(report.error().kind, ErrorKind::InvalidArgument);
+  report = buildPyramid(rows, folder.path() / "no-such-folder" / "x.pyr");
+  ASSERT_FALSE(report.ok());
+  EXPECT_EQ(report.error().kind, ErrorKind::Io);
+  EXPECT_NE(report.error().message.find("x.pyr"), std::string::npos) << report.error().message;
+}
+
+}  // namespace
+}  // namespace polder::terrain
