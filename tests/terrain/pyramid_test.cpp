@@ -159,6 +159,21 @@ TEST(Pyramid, TilesHoldTheStridedSamplesOfTheirFootprint) {
     EXPECT_EQ(pyramid->northBorder()[std::size_t(x)], field.at(x, field.height - 1));
 }
 
+TEST(Pyramid, GivesBackTheFullResolution) {
+  const Heightfield field = makeField(211, 150, 6);
+  TempFolder folder;
+  const fs::path path = buildOrFail(field, folder.path() / "full.pyr");
+  EXPECT_TRUE(looksLikePyramid(path));
+  auto pyramid = openOrFail(path);
+  ASSERT_NE(pyramid, nullptr);
+  auto back = readFullResolution(*pyramid);
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  EXPECT_EQ(back->width, field.width);
+  EXPECT_EQ(back->height, field.height);
+  EXPECT_EQ(back->spacingY, field.spacingY);
+  EXPECT_TRUE(back->heights == field.heights);
+}
+
 TEST(Pyramid, ATileBuildsTheSameHierarchyAsTheFullResolutionAtLevelZero) {
   const Heightfield field = makeField(100, 100, 3);
   TempFolder folder;

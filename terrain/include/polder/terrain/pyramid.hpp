@@ -33,6 +33,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -130,6 +131,14 @@ class Pyramid {
   std::vector<float> m_eastBorder;
   std::vector<float> m_northBorder;
 };
+
+// True when the file at `path` starts with a pyramid's magic (it may still fail to open).
+bool looksLikePyramid(const std::filesystem::path& path);
+
+// The full-resolution heightfield, from the level-0 tiles (whose footprints cover the DEM):
+// for commands that work on the whole field in memory. OutOfMemory when it does not fit;
+// the tiles' own errors as readTile gives them. `progress` as elsewhere, 0..1.
+Result<Heightfield> readFullResolution(const Pyramid& pyramid, const std::function<void(float)>& progress = {});
 
 // The samples of level `level` per side: floor((samples - 1) / 2^level) + 1.
 inline int levelSamples(int samples, int level) { return (samples - 1) / (1 << level) + 1; }
