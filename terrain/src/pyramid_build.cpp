@@ -184,39 +184,39 @@ class Builder {
 
   Status run() {
     const int width = m_layout.width(), height = m_layout.height();
-    std::vector<float> band;
+    std::vector<float> bands[2];
     try {
       m_nodes.resize(std::size_t(m_nodeCount));
       m_east.resize(std::size_t(height));
       m_north.resize(std::size_t(width));
-      band.resize(std::size_t(kBandRows) * std::size_t(width));
+      for (auto& band : bands) band.resize(std::size_t(kBandRows) * std::size_t(width));
     } catch (const std::bad_alloc&) {
       return makeError(ErrorKind::OutOfMemory,
                        m_path.string() + ": no memory for " + std::to_string(m_nodeCount) + " node records");
     }
+    // While one band goes through the levels the next one is read.
+    int current = 0;
+    if (Status read = readBand(0, bands[current]); !read) return read;
     for (int y0 = 0; y0 < height; y0 += kBandRows) {
-      const int count = std::min(kBandRows, height - y0);
-      const std::span<float> rows(band.data(), std::size_t(count) * std::size_t(width));
-      if (Status read = m_source.readRows(y0, count, rows); !read) return read.error();
-      for (int r = 0; r < count; ++r) {
-        const float* row = rows.data() + std::size_t(r) * std::size_t(width);
-        for (int x = 0; x < width; ++x) {
-          if (!std::isfinite(row[x]))
-            return makeError(ErrorKind::InvalidData, sourceName() + ": sample (" + std::to_string(x) + ", " +
-                                                         std::to_string(y0 + r) + ") is not a finite height");
-          m_min = std::min(m_min, row[x]);
-          m_max = std::max(m_max, row[x]);
+      const int next = y0 + kBandRows;
+      Status nextRead, processed;
+      auto half = [&](int which) {
+        if (which == 0) {
+          if (next < height) nextRead = readBand(next, bands[1 - current]);
+        } else {
+          processed = processBand(y0, bands[current]);
         }
-        m_east[std::size_t(y0 + r)] = row[width - 1];
-        if (y0 + r == height - 1) std::copy(row, row + width, m_north.begin());
-        try {
-          pushRow(0, y0 + r, row);
-        } catch (const std::bad_alloc&) {
-          return makeError(ErrorKind::OutOfMemory, m_path.string() + ": no memory for the level rows");
-        }
+      };
+      if (m_options.pool != nullptr) {
+        m_options.pool->runHalves(half);
+      } else {
+        half(1);
+        half(0);
       }
-      if (Status done = finishReadyNodes(); !done) return done;
-      if (m_options.progress) m_options.progress(0.98f * float(y0 + count) / float(height));
+      if (!processed) return processed;
+      if (!nextRead) return nextRead;
+      current = 1 - current;
+      if (m_options.progress) m_options.progress(0.98f * float(std::min(next, height)) / float(height));
     }
     for (int level = 0; level <= m_layout.rootLevel(); ++level)
       if (m_nextRow[std::size_t(level)] != m_layout.nodesY(level))
@@ -226,6 +226,41 @@ class Builder {
   }
 
  private:
+  // Rows [y0, y0 + kBandRows) of the source, fewer at the top, checked.
+  Status readBand(int y0, std::vector<float>& band) {
+    const int width = m_layout.width();
+    const int count = std::min(kBandRows, m_layout.height() - y0);
+    const std::span<float> rows(band.data(), std::size_t(count) * std::size_t(width));
+    if (Status read = m_source.readRows(y0, count, rows); !read) return read;
+    for (int r = 0; r < count; ++r) {
+      const float* row = rows.data() + std::size_t(r) * std::size_t(width);
+      for (int x = 0; x < width; ++x)
+        if (!std::isfinite(row[x]))
+          return makeError(ErrorKind::InvalidData, sourceName() + ": sample (" + std::to_string(x) + ", " +
+                                                       std::to_string(y0 + r) + ") is not a finite height");
+    }
+    return {};
+  }
+
+  Status processBand(int y0, const std::vector<float>& band) {
+    const int width = m_layout.width(), height = m_layout.height();
+    const int count = std::min(kBandRows, height - y0);
+    for (int r = 0; r < count; ++r) {
+      const float* row = band.data() + std::size_t(r) * std::size_t(width);
+      const auto [lo, hi] = std::minmax_element(row, row + width);
+      m_min = std::min(m_min, *lo);
+      m_max = std::max(m_max, *hi);
+      m_east[std::size_t(y0 + r)] = row[width - 1];
+      if (y0 + r == height - 1) std::copy(row, row + width, m_north.begin());
+      try {
+        pushRow(0, y0 + r, row);
+      } catch (const std::bad_alloc&) {
+        return makeError(ErrorKind::OutOfMemory, m_path.string() + ": no memory for the level rows");
+      }
+    }
+    return finishReadyNodes();
+  }
+
   std::string sourceName() const { return m_options.sourceName.empty() ? "the source" : m_options.sourceName; }
 
   // Row y of level L: kept, and every other one passed to level L + 1 (every other sample).
