@@ -1,8 +1,5 @@
 #include <polder/terrain/dem_reader.hpp>
 
-#include <algorithm>
-#include <array>
-#include <cctype>
 #include <cerrno>
 #include <fstream>
 #include <new>
@@ -10,35 +7,15 @@
 #include <system_error>
 #include <vector>
 
-#include <polder/terrain/dem_parsing.hpp>
 #include <polder/terrain/dem_validation.hpp>
 #include <polder/terrain/hgt.hpp>
 #include <polder/terrain/raw.hpp>
 
+#include "dem_file.hpp"
 #include "image_dem.hpp"
-#include "png_check.hpp"
 
 namespace polder::terrain {
 namespace {
-
-enum class FileKind { Png, Tiff, Exr, Unknown };
-
-FileKind sniff(const std::array<unsigned char, 8>& head, std::size_t length) {
-  const auto starts = [&](std::initializer_list<unsigned char> magic) {
-    return length >= magic.size() && std::equal(magic.begin(), magic.end(), head.begin());
-  };
-  if (starts({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'})) return FileKind::Png;
-  if (starts({'I', 'I', 42, 0}) || starts({'M', 'M', 0, 42}) || starts({'I', 'I', 43, 0}) || starts({'M', 'M', 0, 43}))
-    return FileKind::Tiff;  // classic and BigTIFF
-  if (starts({0x76, 0x2f, 0x31, 0x01})) return FileKind::Exr;
-  return FileKind::Unknown;
-}
-
-std::string lowerExtension(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return extension;
-}
 
 Result<std::vector<std::byte>> readWholeFile(const std::filesystem::path& path, std::uint64_t length) {
   std::ifstream in(path, std::ios::binary);
@@ -59,10 +36,8 @@ Result<Dem> readRaw(const std::filesystem::path& path, std::uint64_t length, con
                                     demBytesPerSample(bytesPerSample), options.memoryLimitBytes);
       !size)
     return size.error();
-  if (length != rawByteSize(layout))  // checked before reading a file of the wrong size
-    return makeError(ErrorKind::InvalidData, "raw layout " + rawLayoutName(layout) + " needs " +
-                                                 std::to_string(rawByteSize(layout)) + " bytes but the file has " +
-                                                 std::to_string(length));
+  // Checked before reading a file of the wrong size.
+  if (Status fits = io::checkRawLength(layout, length); !fits) return fits.error();
   auto bytes = readWholeFile(path, length);
   if (!bytes) return bytes.error();
   return decodeRaw(*bytes, layout, options);
@@ -81,45 +56,17 @@ Result<Dem> readHgt(const std::filesystem::path& path, std::uint64_t length, con
 }
 
 Result<Dem> readAny(const std::filesystem::path& path, const DemOptions& options) {
-  if (Status valid = checkDemOptions(options); !valid) return valid.error();
-
-  std::error_code error;
-  const auto status = std::filesystem::status(path, error);
-  if (error && error != std::errc::no_such_file_or_directory)
-    return makeError(ErrorKind::Io, "cannot access the file: " + error.message());
-  if (!std::filesystem::exists(status)) return makeError(ErrorKind::Io, "no such file");
-  if (std::filesystem::is_directory(status)) return makeError(ErrorKind::Io, "is a directory, not a DEM file");
-  if (!std::filesystem::is_regular_file(status)) return makeError(ErrorKind::Io, "is not a regular file");
-  const std::uint64_t length = std::filesystem::file_size(path, error);
-  if (error) return makeError(ErrorKind::Io, "cannot read the file size: " + error.message());
-  if (length == 0) return makeError(ErrorKind::InvalidData, "the file is empty");
-
-  std::array<unsigned char, 8> head{};
-  {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return makeError(ErrorKind::Io, "cannot open the file: " + std::generic_category().message(errno));
-    in.read(reinterpret_cast<char*>(head.data()), std::streamsize(head.size()));
+  const auto file = io::classifyDemFile(path, options);
+  if (!file) return file.error();
+  switch (file->kind) {
+    case io::DemFileKind::Raw:
+      return readRaw(path, file->length, options);
+    case io::DemFileKind::Hgt:
+      return readHgt(path, file->length, options);
+    case io::DemFileKind::Image:
+      break;
   }
-
-  if (options.raw) return readRaw(path, length, options);
-  const FileKind kind = sniff(head, std::size_t(std::min<std::uint64_t>(length, head.size())));
-  if (kind == FileKind::Png)
-    if (Status structure = io::checkPngStructure(path, length); !structure) return structure.error();
-  if (kind != FileKind::Unknown) return io::readImageDem(path, length, options);
-
-  const std::string extension = lowerExtension(path);
-  if (extension == ".hgt") return readHgt(path, length, options);
-  if (extension == ".r16" || extension == ".raw" || extension == ".f32")
-    return makeError(ErrorKind::InvalidArgument,
-                     "a headerless raw file needs its layout (options.raw, --raw WxH:u16|i16|f32[:le|be])");
-  if (extension == ".png")
-    return makeError(ErrorKind::InvalidData, "not a PNG: the PNG signature is missing (corrupt?)");
-  if (extension == ".tif" || extension == ".tiff")
-    return makeError(ErrorKind::InvalidData, "not a TIFF: the TIFF header is missing (corrupt?)");
-  if (extension == ".exr")
-    return makeError(ErrorKind::InvalidData, "not an OpenEXR: the EXR magic number is missing (corrupt?)");
-  return makeError(ErrorKind::Unsupported,
-                   "unknown DEM format (expected PNG, TIFF/GeoTIFF, OpenEXR, SRTM .hgt, or raw with a layout)");
+  return io::readImageDem(path, file->length, options);
 }
 
 }  // namespace

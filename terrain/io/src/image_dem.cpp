@@ -18,37 +18,6 @@
 namespace polder::terrain::io {
 namespace {
 
-// The sample type to ask OpenImageIO for: integers as stored (asking for float would
-// normalise them to 0..1), half as float.
-struct StoredType {
-  SampleFormat format;
-  OIIO::TypeDesc request;
-  const char* name;
-};
-
-std::optional<StoredType> storedType(OIIO::TypeDesc type) {
-  switch (OIIO::TypeDesc::BASETYPE(type.basetype)) {
-    case OIIO::TypeDesc::UINT8:
-      return StoredType{SampleFormat::U8, OIIO::TypeDesc::UINT8, "uint8"};
-    case OIIO::TypeDesc::UINT16:
-      return StoredType{SampleFormat::U16, OIIO::TypeDesc::UINT16, "uint16"};
-    case OIIO::TypeDesc::INT16:
-      return StoredType{SampleFormat::I16, OIIO::TypeDesc::INT16, "int16"};
-    case OIIO::TypeDesc::UINT32:
-      return StoredType{SampleFormat::U32, OIIO::TypeDesc::UINT32, "uint32"};
-    case OIIO::TypeDesc::INT32:
-      return StoredType{SampleFormat::I32, OIIO::TypeDesc::INT32, "int32"};
-    case OIIO::TypeDesc::HALF:
-      return StoredType{SampleFormat::F32, OIIO::TypeDesc::FLOAT, "float16"};
-    case OIIO::TypeDesc::FLOAT:
-      return StoredType{SampleFormat::F32, OIIO::TypeDesc::FLOAT, "float32"};
-    case OIIO::TypeDesc::DOUBLE:
-      return StoredType{SampleFormat::F64, OIIO::TypeDesc::DOUBLE, "float64"};
-    default:
-      return std::nullopt;
-  }
-}
-
 // What a Polder-written PNG says about itself (image_writer.hpp).
 struct PngMetadata {
   std::optional<GroundSpacing> spacing;
@@ -80,12 +49,30 @@ Result<PngMetadata> readPngMetadata(const OIIO::ImageSpec& spec) {
   return metadata;
 }
 
-// What the file says beyond its pixels: spacing, height mapping, no-data.
-struct FileHints {
-  std::optional<GroundSpacing> spacing;
-  SampleDecoding decoding;
-  bool geoTiff = false;
-};
+}  // namespace
+
+std::optional<StoredType> storedType(OIIO::TypeDesc type) {
+  switch (OIIO::TypeDesc::BASETYPE(type.basetype)) {
+    case OIIO::TypeDesc::UINT8:
+      return StoredType{SampleFormat::U8, OIIO::TypeDesc::UINT8, "uint8"};
+    case OIIO::TypeDesc::UINT16:
+      return StoredType{SampleFormat::U16, OIIO::TypeDesc::UINT16, "uint16"};
+    case OIIO::TypeDesc::INT16:
+      return StoredType{SampleFormat::I16, OIIO::TypeDesc::INT16, "int16"};
+    case OIIO::TypeDesc::UINT32:
+      return StoredType{SampleFormat::U32, OIIO::TypeDesc::UINT32, "uint32"};
+    case OIIO::TypeDesc::INT32:
+      return StoredType{SampleFormat::I32, OIIO::TypeDesc::INT32, "int32"};
+    case OIIO::TypeDesc::HALF:
+      return StoredType{SampleFormat::F32, OIIO::TypeDesc::FLOAT, "float16"};
+    case OIIO::TypeDesc::FLOAT:
+      return StoredType{SampleFormat::F32, OIIO::TypeDesc::FLOAT, "float32"};
+    case OIIO::TypeDesc::DOUBLE:
+      return StoredType{SampleFormat::F64, OIIO::TypeDesc::DOUBLE, "float64"};
+    default:
+      return std::nullopt;
+  }
+}
 
 Result<FileHints> readFileHints(const std::filesystem::path& path, std::uint64_t fileLength, const std::string& format,
                                 const OIIO::ImageSpec& spec, const DemOptions& options) {
@@ -117,16 +104,15 @@ Result<FileHints> readFileHints(const std::filesystem::path& path, std::uint64_t
   return hints;
 }
 
-}  // namespace
-
-Result<Dem> readImageDem(const std::filesystem::path& path, std::uint64_t fileLength, const DemOptions& options) {
+Result<std::unique_ptr<OIIO::ImageInput>> openHeightImage(const std::filesystem::path& path) {
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // Terrain-RGB must not be premultiplied
   std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::open(path.string(), &config);
   if (!input) return makeError(ErrorKind::InvalidData, "cannot read the image: " + oneLine(OIIO::geterror()));
-  const OIIO::ImageSpec spec = input->spec();
-  const std::string format = input->format_name();
+  return input;
+}
 
+Result<ImageSampling> imageSampling(const OIIO::ImageSpec& spec, const std::string& format, const DemOptions& options) {
   if (spec.deep) return makeError(ErrorKind::Unsupported, "deep " + format + " images are not height maps");
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     return makeError(ErrorKind::InvalidData, "the image has no samples (" + std::to_string(spec.width) + " x " +
@@ -138,13 +124,30 @@ Result<Dem> readImageDem(const std::filesystem::path& path, std::uint64_t fileLe
                      std::string("samples of type ") + spec.format.c_str() + " are not supported");
 
   const bool rgb8 = stored->format == SampleFormat::U8 && spec.nchannels >= 3;
-  HeightEncoding encoding = options.encoding;
+  const HeightEncoding encoding = options.encoding;
   if ((encoding == HeightEncoding::TerrainRgb || encoding == HeightEncoding::Terrarium) && !rgb8)
     return makeError(ErrorKind::InvalidArgument, std::string("encoding ") + heightEncodingName(encoding) +
                                                      " needs an 8-bit RGB(A) image, this one has " +
                                                      std::to_string(spec.nchannels) + " channel(s) of " + stored->name);
-  const bool readRgb = rgb8 && encoding != HeightEncoding::Greyscale;
-  const int channels = readRgb ? (spec.alpha_channel == 3 ? 4 : 3) : 1;
+  ImageSampling sampling{*stored};
+  sampling.rgb = rgb8 && encoding != HeightEncoding::Greyscale;
+  sampling.encoding = sampling.rgb ? encoding : HeightEncoding::Greyscale;
+  sampling.channels = sampling.rgb ? (spec.alpha_channel == 3 ? 4 : 3) : 1;
+  return sampling;
+}
+
+Result<Dem> readImageDem(const std::filesystem::path& path, std::uint64_t fileLength, const DemOptions& options) {
+  auto opened = openHeightImage(path);
+  if (!opened) return opened.error();
+  std::unique_ptr<OIIO::ImageInput> input = std::move(*opened);
+  const OIIO::ImageSpec spec = input->spec();
+  const std::string format = input->format_name();
+  auto sampling = imageSampling(spec, format, options);
+  if (!sampling) return sampling.error();
+  const StoredType* stored = &sampling->stored;
+  const bool readRgb = sampling->rgb;
+  HeightEncoding encoding = sampling->encoding;
+  const int channels = sampling->channels;
 
   // Everything that could make the read pointless or too large is checked before the pixels.
   if (Status size = checkRasterSize(std::uint64_t(spec.width), std::uint64_t(spec.height),
