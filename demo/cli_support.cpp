@@ -8,6 +8,7 @@
 
 #include <polder/terrain/dem_parsing.hpp>
 #include <polder/terrain/dem_reader.hpp>
+#include <polder/terrain/pyramid.hpp>
 
 namespace polder::cli {
 
@@ -24,7 +25,7 @@ void addDemArguments(CLI::App& command, DemArguments& arguments) {
   command.add_option("--raw", arguments.raw, "Layout of a headerless raw file: WxH:u16|i16|f32[:le|be]");
 }
 
-Result<terrain::Dem> loadDem(const DemArguments& arguments) {
+Result<terrain::DemOptions> demOptions(const DemArguments& arguments) {
   terrain::DemOptions options;
   if (arguments.spacingM) {
     if (!(*arguments.spacingM > 0.0) || !std::isfinite(*arguments.spacingM))
@@ -47,7 +48,28 @@ Result<terrain::Dem> loadDem(const DemArguments& arguments) {
     if (!layout) return layout.error();
     options.raw = *layout;
   }
-  return terrain::readDem(arguments.path, options);
+  return options;
+}
+
+Result<terrain::Dem> loadDem(const DemArguments& arguments) {
+  auto options = demOptions(arguments);
+  if (!options) return options.error();
+  if (!terrain::looksLikePyramid(arguments.path)) return terrain::readDem(arguments.path, *options);
+  // A prepared pyramid: its full resolution, from the level-0 tiles.
+  auto pyramid = terrain::Pyramid::open(arguments.path);
+  if (!pyramid) return pyramid.error();
+  auto field = terrain::readFullResolution(**pyramid);
+  if (!field) return field.error();
+  terrain::Dem dem;
+  dem.field = std::move(field).value();
+  if (options->spacingM) dem.field.spacingX = dem.field.spacingY = *options->spacingM;
+  const terrain::PyramidHeader& header = (*pyramid)->header();
+  dem.info.path = arguments.path;
+  dem.info.format = "polder pyramid";
+  dem.info.encoding = "float32";
+  dem.info.minM = header.minHeight;
+  dem.info.maxM = header.maxHeight;
+  return dem;
 }
 
 Result<std::vector<double>> parseNumbers(std::string_view text, std::size_t count, std::string_view what) {

@@ -33,7 +33,10 @@ struct DemArguments {
 // Adds the DEM positional argument and the options every DEM-reading command takes.
 void addDemArguments(CLI::App& command, DemArguments& arguments);
 
-// Reads the DEM the arguments describe.
+// The reader's options from the arguments; InvalidArgument naming the option.
+Result<terrain::DemOptions> demOptions(const DemArguments& arguments);
+
+// Reads the DEM the arguments describe, or the full resolution of a pyramid (polder prep).
 Result<terrain::Dem> loadDem(const DemArguments& arguments);
 
 // Parses "a,b,c" into exactly `count` finite numbers; `what` names the option in errors.

@@ -18,6 +18,7 @@ void addBenchCommand(CLI::App& app, int& exitCode);
 void addSimplifyCommand(CLI::App& app, int& exitCode);
 void addSceneCommand(CLI::App& app, int& exitCode);
 void addMeshCommand(CLI::App& app, int& exitCode);
+void addPrepCommand(CLI::App& app, int& exitCode);
 
 // `polder bench --scene SCENE.json`: runs the scene's frames and reports them.
 int benchScene(const std::string& sceneFile, std::optional<int> frames, const std::string& jsonPath);

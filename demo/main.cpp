@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   int exitCode = 0;
   polder::cli::addInfoCommand(app, exitCode);
   polder::cli::addGenCommand(app, exitCode);
+  polder::cli::addPrepCommand(app, exitCode);
   polder::cli::addRenderCommand(app, exitCode);
   polder::cli::addQueryCommand(app, exitCode);
   polder::cli::addFlyoverCommand(app, exitCode);

@@ -146,6 +146,75 @@ struct BadInput {
   const char* mentions;
 };
 
+// A prepared pyramid stands in for its DEM in every command.
+TEST_F(PolderProgram, PrepWritesAPyramidThatEveryCommandTakes) {
+  const std::string pyramid = s_dir->file("dem.pyr").string();
+  const ProgramRun prep = runPolder("prep " + dem() + " --block 17 --threads 2 --out " + pyramid);
+  ASSERT_EQ(prep.exitCode, 0) << prep.output;
+  EXPECT_NE(prep.output.find("129 x 129 samples"), std::string::npos) << prep.output;
+
+  const auto source = nlohmann::json::parse(runPolder("info " + dem() + " --json").output);
+  const ProgramRun info = runPolder("info " + pyramid + " --json");
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  const auto prepared = nlohmann::json::parse(info.output);
+  EXPECT_EQ(prepared["format"], "polder pyramid");
+  for (const char* key : {"width", "height", "spacing_m", "min_m", "max_m"})
+    EXPECT_EQ(prepared[key], source[key]) << key;
+
+  auto read = terrain::readDem(dem());
+  ASSERT_TRUE(read.ok()) << read.error().message;
+  const std::string at =
+      " --at " + std::to_string(17 * read->field.spacingX) + "," + std::to_string(90 * read->field.spacingY);
+  const ProgramRun query = runPolder("query " + pyramid + at);
+  ASSERT_EQ(query.exitCode, 0) << query.output;
+  EXPECT_NEAR(std::stod(query.output), read->field.at(17, 90), 1e-3);
+
+  const std::string frame = s_dir->file("pyramid_frame.png").string();
+  const ProgramRun render =
+      runPolder("render " + pyramid + " --camera 1600,-800,1800,0,-25 --size 64x48 --out " + frame);
+  EXPECT_EQ(render.exitCode, 0) << render.output;
+  EXPECT_TRUE(std::filesystem::exists(frame));
+
+  // A flipped byte in a full-resolution tile (they fill the first three quarters of the tiles)
+  // is found when the tiles are read.
+  std::string bytes;
+  {
+    std::ifstream in(pyramid, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::string corrupt = s_dir->file("corrupt.pyr").string();
+  bytes[bytes.size() / 2] ^= 0x10;
+  writeFile(corrupt, bytes);
+  const ProgramRun damaged = runPolder("query " + corrupt + at);
+  EXPECT_EQ(damaged.exitCode, 1) << damaged.output;
+  EXPECT_NE(damaged.output.find("corrupt.pyr"), std::string::npos) << damaged.output;
+  EXPECT_EQ(damaged.output.find("terminate called"), std::string::npos);
+}
+
+TEST_F(PolderProgram, PrepRefusesBadArgumentsAndLeavesNoFile) {
+  const std::string out = s_dir->file("refused.pyr").string();
+  const std::vector<BadInput> cases = {
+      {"block not 2^k+1", "prep " + dem() + " --block 30 --out " + out, 2, "--block"},
+      {"negative threads", "prep " + dem() + " --threads -1 --out " + out, 2, "--threads"},
+      {"no output", "prep " + dem(), 2, "--out"},
+      {"missing source", "prep /nonexistent/dem.tif --out " + out, 1, "/nonexistent/dem.tif"},
+      {"output is the input", "prep " + dem() + " --out " + dem(), 2, "--out"},
+      {"output folder missing", "prep " + dem() + " --out /nonexistent/folder/p.pyr", 1, "/nonexistent/folder"},
+  };
+  for (const auto& c : cases) {
+    const ProgramRun run = runPolder(c.arguments);
+    EXPECT_EQ(run.exitCode, c.exitCode) << c.name << ": " << run.output;
+    EXPECT_NE(run.output.find(c.mentions), std::string::npos)
+        << c.name << " should mention '" << c.mentions << "': " << run.output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << c.name;
+  }
+  const std::string truncated = s_dir->file("truncated.pyr").string();
+  writeFile(truncated, "PLDRPYR1 and not much more");
+  const ProgramRun run = runPolder("info " + truncated);
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_NE(run.output.find("truncated.pyr"), std::string::npos) << run.output;
+}
+
 TEST_F(PolderProgram, BadInputGetsAClearMessageAndExitCode) {
   const std::string empty = s_dir->file("empty.png").string();
   writeFile(empty, "");
@@ -599,7 +668,8 @@ TEST_F(PolderProgram, MeshBadInputGetsAClearMessageExitCodeAndNoFile) {
 }
 
 TEST(PolderProgramHelp, EverySubcommandHasHelp) {
-  for (const char* command : {"info", "gen", "render", "query", "flyover", "bench", "simplify", "scene", "mesh"}) {
+  for (const char* command :
+       {"info", "gen", "prep", "render", "query", "flyover", "bench", "simplify", "scene", "mesh"}) {
     const ProgramRun run = runPolder(std::string(command) + " --help");
     EXPECT_EQ(run.exitCode, 0) << command << ": " << run.output;
     EXPECT_NE(run.output.find("Usage"), std::string::npos) << command;
