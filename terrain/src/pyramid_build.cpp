@@ -4,7 +4,6 @@
 #include <polder/terrain/pyramid_build.hpp>
 
 #include <fcntl.h>
-#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -21,6 +20,7 @@
 #include <vector>
 
 #include <polder/checksum.hpp>
+#include <polder/partial_file.hpp>
 #include <polder/terrain/block_layout.hpp>
 #include <polder/terrain/pyramid.hpp>
 #include <polder/terrain/rtin.hpp>
@@ -89,62 +89,6 @@ Status writeExactly(int fd, const void* data, std::size_t size, std::uint64_t of
   }
   return {};
 }
-
-// The output file while it is being written: removed unless commit() renamed it into place.
-class PartialFile {
- public:
-  explicit PartialFile(std::filesystem::path destination)
-      : m_destination(std::move(destination)),
-        m_path(m_destination.string() + ".partial-" + std::to_string(::getpid())) {}
-  ~PartialFile() {
-    if (m_fd >= 0) ::close(m_fd);
-    if (!m_committed) ::unlink(m_path.c_str());
-  }
-  PartialFile(const PartialFile&) = delete;
-  PartialFile& operator=(const PartialFile&) = delete;
-
-  const std::filesystem::path& path() const { return m_path; }
-  int fd() const { return m_fd; }
-
-  Status create(std::uint64_t bytes) {
-    m_fd = ::open(m_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (m_fd < 0) return makeError(ErrorKind::Io, m_destination.string() + ": cannot create: " + std::strerror(errno));
-    struct statvfs disk {};
-    if (::fstatvfs(m_fd, &disk) == 0) {
-      const std::uint64_t room = std::uint64_t(disk.f_bavail) * std::uint64_t(disk.f_frsize);
-      if (room < bytes)
-        return makeError(ErrorKind::Io, m_destination.string() + ": the pyramid needs " + std::to_string(bytes >> 20) +
-                                            " MiB and the disk has " + std::to_string(room >> 20) + " MiB free");
-    }
-    if (::ftruncate(m_fd, off_t(bytes)) != 0) return ioError(m_destination, "size the output");
-    return {};
-  }
-
-  Status commit() {
-    if (::fsync(m_fd) != 0) return ioError(m_destination, "sync");
-    const int fd = m_fd;
-    m_fd = -1;
-    if (::close(fd) != 0) return ioError(m_destination, "close");
-    std::error_code error;
-    std::filesystem::rename(m_path, m_destination, error);
-    if (error)
-      return makeError(ErrorKind::Io, m_destination.string() + ": cannot rename into place: " + error.message());
-    m_committed = true;
-    // The rename itself reaches the disk with the folder's sync.
-    const std::filesystem::path folder = m_destination.has_parent_path() ? m_destination.parent_path() : ".";
-    if (const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dir >= 0) {
-      ::fsync(dir);
-      ::close(dir);
-    }
-    return {};
-  }
-
- private:
-  std::filesystem::path m_destination;
-  std::filesystem::path m_path;
-  int m_fd = -1;
-  bool m_committed = false;
-};
 
 // The level-L surface at level L - 1 sample (i, j) of the same footprint (heightfield.hpp:
 // every cell is cut from (x + 1, y) to (x, y + 1)); (i, j) at most one level-L cell beyond the
@@ -470,8 +414,8 @@ Result<PyramidBuildReport> buildPyramid(HeightRows& source, const std::filesyste
       (borderOffset + borderBytes(layout->width(), layout->height()) + 4095) / 4096 * 4096;
   const std::uint32_t slotBytes = tileSlotBytes(options.k);
   const std::uint64_t fileBytes = tilesOffset + nodes * slotBytes;
-  PartialFile file(out);
-  if (Status created = file.create(fileBytes); !created) return created.error();
+  core::PartialFile file(out);
+  if (Status created = file.create(fileBytes, true); !created) return created.error();
 
   Builder writer(source, *layout, options, file.fd(), out, tilesOffset);
   if (Status built = writer.run(); !built) return built.error();
