@@ -37,34 +37,10 @@ Status writeHeightTiffFloat(const std::filesystem::path& path, const Heightfield
   std::string errors;
   std::unique_ptr<TIFF, TiffCloser> file(io::openTiff(path, "w", errors));
   if (!file) return fail(ErrorKind::Io, "cannot create the file: " + io::oneLine(errors));
-  if (!io::declareGeoTiffTags(file.get())) return fail(ErrorKind::Environment, "libtiff refused the GeoTIFF tags");
-
   TIFF* tif = file.get();
-  TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, std::uint32_t(field.width));
-  TIFFSetField(tif, TIFFTAG_IMAGELENGTH, std::uint32_t(field.height));
-  TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, 1);
-  TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, 32);
-  TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT, SAMPLEFORMAT_IEEEFP);
-  TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
-  TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
-  TIFFSetField(tif, TIFFTAG_COMPRESSION, COMPRESSION_ADOBE_DEFLATE);
-  TIFFSetField(tif, TIFFTAG_PREDICTOR, PREDICTOR_FLOATINGPOINT);
+  if (!io::setHeightTiffTags(tif, field.width, field.height, field.spacingX, field.spacingY))
+    return fail(ErrorKind::Environment, "libtiff refused the GeoTIFF tags");
   TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, kRowsPerStrip);
-
-  // A local projected CRS in metres; the raster's first (north-west) sample, as a point,
-  // sits at the world frame's (0, extentY): the south-west sample is the origin.
-  const double pixelScale[3] = {field.spacingX, field.spacingY, 0.0};
-  const double tiepoint[6] = {0.0, 0.0, 0.0, 0.0, field.extentY(), 0.0};
-  const std::uint16_t geoKeys[] = {
-      1,    1, 0, 4,      // directory version 1.1.0, 4 keys
-      1024, 0, 1, 1,      // GTModelTypeGeoKey = projected
-      1025, 0, 1, 2,      // GTRasterTypeGeoKey = PixelIsPoint
-      3072, 0, 1, 32767,  // ProjectedCSTypeGeoKey = user-defined
-      3076, 0, 1, 9001,   // ProjLinearUnitsGeoKey = metre
-  };
-  TIFFSetField(tif, kTagModelPixelScale, 3, pixelScale);
-  TIFFSetField(tif, kTagModelTiepoint, 6, tiepoint);
-  TIFFSetField(tif, kTagGeoKeyDirectory, int(sizeof geoKeys / sizeof geoKeys[0]), geoKeys);
 
   std::vector<float> row(std::size_t(field.width));
   for (int r = 0; r < field.height; ++r) {

@@ -111,4 +111,33 @@ bool declareGeoTiffTags(tiff* file) {
   return TIFFMergeFieldInfo(file, kFields, sizeof kFields / sizeof kFields[0]) == 0;
 }
 
+bool setHeightTiffTags(TIFF* tif, int width, int height, double spacingX, double spacingY) {
+  if (!declareGeoTiffTags(tif)) return false;
+  TIFFSetField(tif, TIFFTAG_IMAGEWIDTH, std::uint32_t(width));
+  TIFFSetField(tif, TIFFTAG_IMAGELENGTH, std::uint32_t(height));
+  TIFFSetField(tif, TIFFTAG_SAMPLESPERPIXEL, 1);
+  TIFFSetField(tif, TIFFTAG_BITSPERSAMPLE, 32);
+  TIFFSetField(tif, TIFFTAG_SAMPLEFORMAT, SAMPLEFORMAT_IEEEFP);
+  TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
+  TIFFSetField(tif, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+  TIFFSetField(tif, TIFFTAG_COMPRESSION, COMPRESSION_ADOBE_DEFLATE);
+  TIFFSetField(tif, TIFFTAG_PREDICTOR, PREDICTOR_FLOATINGPOINT);
+
+  // A local projected CRS in metres; the raster's first (north-west) sample, as a point,
+  // sits at the world frame's (0, extentY): the south-west sample is the origin.
+  const double pixelScale[3] = {spacingX, spacingY, 0.0};
+  const double tiepoint[6] = {0.0, 0.0, 0.0, 0.0, double(height - 1) * spacingY, 0.0};
+  const std::uint16_t geoKeys[] = {
+      1,    1, 0, 4,      // directory version 1.1.0, 4 keys
+      1024, 0, 1, 1,      // GTModelTypeGeoKey = projected
+      1025, 0, 1, 2,      // GTRasterTypeGeoKey = PixelIsPoint
+      3072, 0, 1, 32767,  // ProjectedCSTypeGeoKey = user-defined
+      3076, 0, 1, 9001,   // ProjLinearUnitsGeoKey = metre
+  };
+  TIFFSetField(tif, kTagModelPixelScale, 3, pixelScale);
+  TIFFSetField(tif, kTagModelTiepoint, 6, tiepoint);
+  TIFFSetField(tif, kTagGeoKeyDirectory, int(sizeof geoKeys / sizeof geoKeys[0]), geoKeys);
+  return true;
+}
+
 }  // namespace polder::terrain::io

@@ -27,4 +27,10 @@ tiff* openTiff(const std::filesystem::path& path, const char* mode, std::string&
 // being written, so TIFFSetField accepts them.
 bool declareGeoTiffTags(tiff* file);
 
+// The tags of Polder's float height TIFF (image_writer.hpp) on a TIFF being written: size,
+// 32-bit float samples, deflate with the floating-point predictor, and the GeoTIFF tags of a
+// local projected CRS in metres whose origin is the south-west sample. The layout (strips or
+// tiles) is the caller's. False when libtiff refuses the GeoTIFF tags.
+bool setHeightTiffTags(tiff* file, int width, int height, double spacingX, double spacingY);
+
 }  // namespace polder::terrain::io
