@@ -1,11 +1,8 @@
-// The terrain generator's relief (fractal noise) and its pipeline; the erosion stages live in
-// generator_erosion.cpp.
+// The terrain generator's relief (fractal noise) and its pipeline; the noise lives in
+// generator_noise.hpp, the erosion stages in generator_erosion.cpp.
 //
-// Relief: 2D gradient noise (Perlin 2002, quintic fade) over an integer-lattice hash
-// (splitmix64's finaliser, Steele et al. 2014); fBm for hills; Musgrave's ridged multifractal
-// ("Texturing and Modeling: A Procedural Approach", ch. 16) for mountain ranges; domain
-// warping (Quilez, "Domain warping", 2002) to bend ridges out of the noise lattice's grain.
-// Each octave is rotated by a fixed angle (cos 0.8, sin 0.6) so octave lattices never align.
+// Relief: fBm for hills; Musgrave's ridged multifractal for mountain ranges; domain warping
+// (Quilez, "Domain warping", 2002) to bend ridges out of the noise lattice's grain.
 #include <polder/terrain/generator.hpp>
 
 #include <algorithm>
@@ -16,105 +13,32 @@
 #include <optional>
 #include <string>
 
-#include <polder/mix_bits.hpp>
+#include "generator_noise.hpp"
+#include "generator_pipeline.hpp"
 
 namespace polder::terrain {
 namespace {
 
-// Independent seeds for the noise layers (and the droplets), derived from the user's seed.
-std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t stream) {
-  return mixBits(seed + 0x9e3779b97f4a7c15ULL * (stream + 1));
-}
-
-// Sixteen unit gradients at multiples of 22.5 degrees, as literals (no libm at run time).
-constexpr double kGradX[16] = {1.0,  0.92387953,  0.70710678,  0.38268343,  0.0, -0.38268343, -0.70710678, -0.92387953,
-                               -1.0, -0.92387953, -0.70710678, -0.38268343, 0.0, 0.38268343,  0.70710678,  0.92387953};
-constexpr double kGradY[16] = {0.0, 0.38268343,  0.70710678,  0.92387953,  1.0,  0.92387953,  0.70710678,  0.38268343,
-                               0.0, -0.38268343, -0.70710678, -0.92387953, -1.0, -0.92387953, -0.70710678, -0.38268343};
-
-double gradientAt(std::int64_t ix, std::int64_t iy, double dx, double dy, std::uint64_t seed) {
-  const std::uint64_t h =
-      mixBits(seed ^ (std::uint64_t(ix) * 0x9e3779b97f4a7c15ULL) ^ (std::uint64_t(iy) * 0xc2b2ae3d27d4eb4fULL));
-  const unsigned k = unsigned(h >> 60);
-  return kGradX[k] * dx + kGradY[k] * dy;
-}
-
-double fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
-
-// Gradient noise, roughly in [-1, 1] (unit gradients reach about 0.7; scaled up).
-double gradientNoise(double x, double y, std::uint64_t seed) {
-  const double fx = std::floor(x), fy = std::floor(y);
-  const auto ix = std::int64_t(fx), iy = std::int64_t(fy);
-  const double tx = x - fx, ty = y - fy;
-  const double n00 = gradientAt(ix, iy, tx, ty, seed);
-  const double n10 = gradientAt(ix + 1, iy, tx - 1.0, ty, seed);
-  const double n01 = gradientAt(ix, iy + 1, tx, ty - 1.0, seed);
-  const double n11 = gradientAt(ix + 1, iy + 1, tx - 1.0, ty - 1.0, seed);
-  const double u = fade(tx), v = fade(ty);
-  const double south = n00 + u * (n10 - n00);
-  const double north = n01 + u * (n11 - n01);
-  return 1.4 * (south + v * (north - south));
-}
-
-struct Point {
-  double x, y;
-};
-
-// The next octave's coordinates: doubled frequency, rotated by atan2(0.6, 0.8).
-Point nextOctave(Point p) { return {2.0 * (0.8 * p.x - 0.6 * p.y), 2.0 * (0.6 * p.x + 0.8 * p.y)}; }
-
-// Fractional Brownian motion, normalised by its amplitude sum: about [-1, 1].
-double fbm(Point p, int octaves, std::uint64_t seed) {
-  double sum = 0.0, amplitude = 1.0, total = 0.0;
-  for (int i = 0; i < octaves; ++i) {
-    sum += amplitude * gradientNoise(p.x, p.y, seed + std::uint64_t(i));
-    total += amplitude;
-    amplitude *= 0.5;
-    p = nextOctave(p);
-  }
-  return sum / total;
-}
-
-// Musgrave's ridged multifractal with H = 1, lacunarity 2, offset 1, gain 2: each octave's
-// ridge signal (1 - |n|)^2 is weighted by the previous one, so detail gathers on the ridges
-// and valleys stay smooth. About [0, 1].
-double ridgedMultifractal(Point p, int octaves, std::uint64_t seed) {
-  double sum = 0.0, amplitude = 1.0, weight = 1.0;
-  for (int i = 0; i < octaves; ++i) {
-    double signal = 1.0 - std::abs(gradientNoise(p.x, p.y, seed + std::uint64_t(i)));
-    signal *= signal * weight;
-    sum += signal * amplitude;
-    weight = std::clamp(signal * 2.0, 0.0, 1.0);
-    amplitude *= 0.5;
-    p = nextOctave(p);
-  }
-  return 0.5 * sum;
-}
-
-double smoothstep(double edge0, double edge1, double x) {
-  const double t = std::clamp((x - edge0) / (edge1 - edge0), 0.0, 1.0);
-  return t * t * (3.0 - 2.0 * t);
-}
-
-// Octaves from `wavelengthM` down to no finer than two samples (finer ones would alias).
-int octavesFor(double wavelengthM, double spacingM) {
-  int octaves = 1;
-  while (octaves < 16 && wavelengthM > 4.0 * spacingM) {
-    wavelengthM *= 0.5;
-    ++octaves;
-  }
-  return octaves;
-}
+using noise::fbm;
+using noise::octavesFor;
+using noise::Point;
+using noise::ridgedMultifractal;
+using noise::smoothstep;
+using noise::streamSeed;
 
 bool finitePositive(double v) { return std::isfinite(v) && v > 0.0; }
 bool finiteNonNegative(double v) { return std::isfinite(v) && v >= 0.0; }
 
-Error invalid(const std::string& what) { return makeError(ErrorKind::InvalidArgument, "generateTerrain: " + what); }
+}  // namespace
 
-std::optional<Error> validate(const GeneratorOptions& o) {
-  if (o.size < 2 || o.size > kMaxGeneratorSize)
-    return invalid("size must be between 2 and " + std::to_string(kMaxGeneratorSize) + " samples, got " +
-                   std::to_string(o.size));
+namespace pipeline {
+
+std::optional<Error> validateOptions(const GeneratorOptions& o, int maxSize, const std::string& caller) {
+  const auto invalid = [&](const std::string& what) {
+    return makeError(ErrorKind::InvalidArgument, caller + ": " + what);
+  };
+  if (o.size < 2 || o.size > maxSize)
+    return invalid("size must be between 2 and " + std::to_string(maxSize) + " samples, got " + std::to_string(o.size));
   if (!(o.spacingM >= 1.0e-3 && o.spacingM <= 1.0e6))
     return invalid("spacing must be between 0.001 and 1e6 metres, got " + std::to_string(o.spacingM));
   const ReliefOptions& r = o.relief;
@@ -148,10 +72,19 @@ std::optional<Error> validate(const GeneratorOptions& o) {
   return std::nullopt;
 }
 
-// Maps a stage's 0..1 onto [begin, end] of the whole run.
 std::function<void(float)> subRange(const std::function<void(float)>& progress, float begin, float end) {
   if (!progress) return {};
   return [&progress, begin, end](float f) { progress(begin + (end - begin) * std::clamp(f, 0.0f, 1.0f)); };
+}
+
+}  // namespace pipeline
+
+namespace {
+
+using pipeline::subRange;
+
+std::optional<Error> validate(const GeneratorOptions& options) {
+  return pipeline::validateOptions(options, kMaxGeneratorSize, "generateTerrain");
 }
 
 // River incision on a grid of half the resolution, its lowering spread back bilinearly: four
@@ -218,16 +151,21 @@ Heightfield generateRelief(const GeneratorOptions& options, const std::function<
   return field;
 }
 
+void pipeline::erode(Heightfield& field, const GeneratorOptions& options, const std::function<void(float)>& progress) {
+  // Shares of the erosion each stage takes, measured at the default options.
+  erodeThermal(field, options.thermal);
+  erodeFluvialCoarse(field, options.fluvial, subRange(progress, 0.0f, 0.5f));
+  erodeDroplets(field, options.droplets, streamSeed(options.seed, 5), subRange(progress, 0.5f, 0.9375f));
+  if (options.fillDepressions) fillDepressions(field);
+  if (progress) progress(1.0f);
+}
+
 Result<Heightfield> generateTerrain(const GeneratorOptions& options, const std::function<void(float)>& progress) {
   if (auto error = validate(options)) return *error;
   try {
     // Shares of the run each stage takes, measured at the default options.
     Heightfield field = generateRelief(options, subRange(progress, 0.0f, 0.2f));
-    erodeThermal(field, options.thermal);
-    erodeFluvialCoarse(field, options.fluvial, subRange(progress, 0.2f, 0.6f));
-    erodeDroplets(field, options.droplets, streamSeed(options.seed, 5), subRange(progress, 0.6f, 0.95f));
-    if (options.fillDepressions) fillDepressions(field);
-    if (progress) progress(1.0f);
+    pipeline::erode(field, options, subRange(progress, 0.2f, 1.0f));
     return field;
   } catch (const std::bad_alloc&) {
     const std::string size = std::to_string(options.size);
