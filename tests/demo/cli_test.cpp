@@ -236,6 +236,8 @@ TEST_F(PolderProgram, BadInputGetsAClearMessageAndExitCode) {
       {"query both", "query " + dem() + " --at 1,1 --ray 0,0,0,0,0,-1", 2, "exactly one"},
       {"gen bad size", "gen --size 1 --out " + s_dir->file("g.png").string(), 2, "size"},
       {"gen bad extension", "gen --size 33 --out " + s_dir->file("g.jpg").string(), 2, ".png"},
+      {"gen streamed as png", "gen --size 8194 --out " + s_dir->file("g.png").string(), 2, ".tif"},
+      {"gen beyond the largest", "gen --size 200000 --out " + s_dir->file("g.tif").string(), 2, "size"},
       {"unknown command", "fly-me-to-the-moon", 2, "fly-me-to-the-moon"},
       {"missing argument", "info", 2, "dem"},
   };
