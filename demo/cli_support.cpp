@@ -5,9 +5,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 
 #include <polder/terrain/dem_parsing.hpp>
 #include <polder/terrain/dem_reader.hpp>
+#include <polder/terrain/dem_rows.hpp>
 #include <polder/terrain/pyramid.hpp>
 
 namespace polder::cli {
@@ -23,6 +25,9 @@ void addDemArguments(CLI::App& command, DemArguments& arguments) {
   command.add_option("--nodata", arguments.nodata, "auto (the file's no-data value and int16 -32768/-32767) or none")
       ->capture_default_str();
   command.add_option("--raw", arguments.raw, "Layout of a headerless raw file: WxH:u16|i16|f32[:le|be]");
+  command.add_option("--window", arguments.window,
+                     "Only the samples X0..X1 x Y0..Y1 (row 0 south, inclusive) as the DEM, its south-west "
+                     "sample the origin; any part of a DEM larger than memory");
 }
 
 Result<terrain::DemOptions> demOptions(const DemArguments& arguments) {
@@ -51,14 +56,74 @@ Result<terrain::DemOptions> demOptions(const DemArguments& arguments) {
   return options;
 }
 
+namespace {
+
+Result<std::optional<terrain::SampleRect>> parseWindow(const std::string& text) {
+  if (text.empty()) return std::optional<terrain::SampleRect>();
+  auto numbers = parseNumbers(text, 4, "--window");
+  if (!numbers) return numbers.error();
+  const auto& v = *numbers;
+  for (const double n : v)
+    if (n != std::floor(n) || n < 0.0 || n > 2147483647.0)
+      return makeError(ErrorKind::InvalidArgument, "--window " + text + ": give four whole sample indices X0,Y0,X1,Y1");
+  const terrain::SampleRect window{int(v[0]), int(v[1]), int(v[2]), int(v[3])};
+  if (window.x1 <= window.x0 || window.y1 <= window.y0)
+    return makeError(ErrorKind::InvalidArgument, "--window " + text + ": X1 must exceed X0 and Y1 exceed Y0");
+  return std::optional<terrain::SampleRect>(window);
+}
+
+Status checkWindow(const terrain::SampleRect& window, int width, int height) {
+  if (window.x1 >= width || window.y1 >= height)
+    return makeError(ErrorKind::InvalidArgument, "--window reaches past the DEM's " + std::to_string(width) + " x " +
+                                                     std::to_string(height) + " samples");
+  return {};
+}
+
+// A window of a DEM file, read a band of rows at a time.
+Result<terrain::Dem> readDemWindow(const std::string& path, const terrain::DemOptions& options,
+                                   const terrain::SampleRect& window) {
+  auto opened = terrain::openDemRows(path, options);
+  if (!opened) return opened.error();
+  terrain::DemRows& rows = **opened;
+  if (Status inside = checkWindow(window, rows.width(), rows.height()); !inside) return inside.error();
+  terrain::Dem dem;
+  dem.info = rows.info();
+  const int width = window.x1 - window.x0 + 1, height = window.y1 - window.y0 + 1;
+  dem.field = terrain::Heightfield(width, height, rows.spacingX(), rows.spacingY());
+  constexpr int kBandRows = 64;
+  std::vector<float> band;
+  for (int y = window.y0; y <= window.y1; y += kBandRows) {
+    const int count = std::min(kBandRows, window.y1 + 1 - y);
+    band.resize(std::size_t(count) * std::size_t(rows.width()));
+    if (Status read = rows.readRows(y, count, band); !read) return read.error();
+    for (int r = 0; r < count; ++r)
+      std::copy_n(band.begin() + std::ptrdiff_t(r) * rows.width() + window.x0, width,
+                  dem.field.heights.begin() + std::ptrdiff_t(dem.field.index(0, y - window.y0 + r)));
+  }
+  const auto [low, high] = dem.field.heightRange();
+  dem.info.minM = low;
+  dem.info.maxM = high;
+  return dem;
+}
+
+}  // namespace
+
 Result<terrain::Dem> loadDem(const DemArguments& arguments) {
   auto options = demOptions(arguments);
   if (!options) return options.error();
-  if (!terrain::looksLikePyramid(arguments.path)) return terrain::readDem(arguments.path, *options);
+  auto window = parseWindow(arguments.window);
+  if (!window) return window.error();
+  if (!terrain::looksLikePyramid(arguments.path)) {
+    if (*window) return readDemWindow(arguments.path, *options, **window);
+    return terrain::readDem(arguments.path, *options);
+  }
   // A prepared pyramid: its full resolution, from the level-0 tiles.
   auto pyramid = terrain::Pyramid::open(arguments.path);
   if (!pyramid) return pyramid.error();
-  auto field = terrain::readFullResolution(**pyramid);
+  if (*window)
+    if (Status inside = checkWindow(**window, (*pyramid)->header().width, (*pyramid)->header().height); !inside)
+      return inside.error();
+  auto field = *window ? terrain::readWindow(**pyramid, **window) : terrain::readFullResolution(**pyramid);
   if (!field) return field.error();
   terrain::Dem dem;
   dem.field = std::move(field).value();
@@ -69,6 +134,7 @@ Result<terrain::Dem> loadDem(const DemArguments& arguments) {
   dem.info.encoding = "float32";
   dem.info.minM = header.minHeight;
   dem.info.maxM = header.maxHeight;
+  if (*window) std::tie(dem.info.minM, dem.info.maxM) = dem.field.heightRange();
   return dem;
 }
 

@@ -28,6 +28,7 @@ struct DemArguments {
   std::string encoding = "auto";
   std::string nodata = "auto";
   std::string raw;
+  std::string window;  // "X0,Y0,X1,Y1" in samples, or empty for the whole DEM
 };
 
 // Adds the DEM positional argument and the options every DEM-reading command takes.
@@ -36,7 +37,9 @@ void addDemArguments(CLI::App& command, DemArguments& arguments);
 // The reader's options from the arguments; InvalidArgument naming the option.
 Result<terrain::DemOptions> demOptions(const DemArguments& arguments);
 
-// Reads the DEM the arguments describe, or the full resolution of a pyramid (polder prep).
+// Reads the DEM the arguments describe, or the full resolution of a pyramid (polder prep);
+// with --window only that part, read a band of rows (or the overlapping tiles) at a time, so
+// any part of a DEM larger than memory can be loaded.
 Result<terrain::Dem> loadDem(const DemArguments& arguments);
 
 // Parses "a,b,c" into exactly `count` finite numbers; `what` names the option in errors.

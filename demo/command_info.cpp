@@ -94,6 +94,9 @@ Result<InfoReport> describePyramid(const DemArguments& arguments, const terrain:
 }
 
 int runInfo(const InfoArguments& arguments) {
+  if (!arguments.dem.window.empty())
+    return reportError(
+        makeError(ErrorKind::InvalidArgument, "--window applies to the commands that load the DEM, not to this one"));
   auto options = demOptions(arguments.dem);
   if (!options) return reportError(options.error());
   auto report = terrain::looksLikePyramid(arguments.dem.path) ? describePyramid(arguments.dem, *options)

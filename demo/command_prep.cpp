@@ -34,6 +34,9 @@ int runPrep(const PrepArguments& arguments) {
   std::error_code same;
   if (std::filesystem::equivalent(arguments.dem.path, arguments.out, same))
     return reportError(makeError(ErrorKind::InvalidArgument, "--out " + arguments.out + ": is the input DEM"));
+  if (!arguments.dem.window.empty())
+    return reportError(
+        makeError(ErrorKind::InvalidArgument, "--window applies to the commands that load the DEM, not to this one"));
   auto options = demOptions(arguments.dem);
   if (!options) return reportError(options.error());
   auto rows = terrain::openDemRows(arguments.dem.path, *options);

@@ -191,6 +191,37 @@ TEST_F(PolderProgram, PrepWritesAPyramidThatEveryCommandTakes) {
   EXPECT_EQ(damaged.output.find("terminate called"), std::string::npos);
 }
 
+// --window loads part of a DEM or of a pyramid; its south-west sample becomes the origin.
+TEST_F(PolderProgram, WindowLoadsAPartOfTheDemOrPyramid) {
+  const std::string pyramid = s_dir->file("window.pyr").string();
+  ASSERT_EQ(runPolder("prep " + dem() + " --out " + pyramid).exitCode, 0);
+  auto read = terrain::readDem(dem());
+  ASSERT_TRUE(read.ok()) << read.error().message;
+  const auto& field = read->field;
+  const std::string at = " --at " + std::to_string(3 * field.spacingX) + "," + std::to_string(5 * field.spacingY);
+  for (const std::string& source : {dem(), pyramid}) {
+    const ProgramRun query = runPolder("query " + source + " --window 40,70,100,120" + at);
+    ASSERT_EQ(query.exitCode, 0) << query.output;
+    EXPECT_NEAR(std::stod(query.output), field.at(43, 75), 1e-3) << source;
+    const ProgramRun outside = runPolder("query " + source + " --window 40,70,100,120 --at 9000,10");
+    EXPECT_EQ(outside.exitCode, 2) << outside.output;
+  }
+  const std::vector<BadInput> cases = {
+      {"past the DEM", "query " + dem() + " --window 0,0,129,10" + at, 2, "--window"},
+      {"past the pyramid", "query " + pyramid + " --window 0,0,10,200" + at, 2, "--window"},
+      {"reversed", "query " + dem() + " --window 50,0,10,10" + at, 2, "--window"},
+      {"not whole", "query " + dem() + " --window 0,0,10.5,10" + at, 2, "--window"},
+      {"three numbers", "query " + dem() + " --window 0,0,10" + at, 2, "--window"},
+      {"not for info", "info " + dem() + " --window 0,0,10,10", 2, "--window"},
+  };
+  for (const auto& c : cases) {
+    const ProgramRun run = runPolder(c.arguments);
+    EXPECT_EQ(run.exitCode, c.exitCode) << c.name << ": " << run.output;
+    EXPECT_NE(run.output.find(c.mentions), std::string::npos)
+        << c.name << " should mention '" << c.mentions << "': " << run.output;
+  }
+}
+
 TEST_F(PolderProgram, PrepRefusesBadArgumentsAndLeavesNoFile) {
   const std::string out = s_dir->file("refused.pyr").string();
   const std::vector<BadInput> cases = {

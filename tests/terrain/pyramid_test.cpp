@@ -174,6 +174,30 @@ TEST(Pyramid, GivesBackTheFullResolution) {
   EXPECT_TRUE(back->heights == field.heights);
 }
 
+TEST(Pyramid, GivesBackAnyWindowOfTheFullResolution) {
+  const Heightfield field = makeField(211, 150, 6);
+  TempFolder folder;
+  auto pyramid = openOrFail(buildOrFail(field, folder.path() / "window.pyr"));
+  ASSERT_NE(pyramid, nullptr);
+  // Windows on block edges, inside one block, across many, and touching the DEM's far edges.
+  for (const SampleRect window : {SampleRect{0, 0, 1, 1}, SampleRect{32, 64, 96, 128}, SampleRect{33, 5, 40, 9},
+                                  SampleRect{7, 3, 210, 149}, SampleRect{190, 100, 210, 149}}) {
+    auto part = readWindow(*pyramid, window);
+    ASSERT_TRUE(part.ok()) << part.error().message;
+    ASSERT_EQ(part->width, window.x1 - window.x0 + 1);
+    ASSERT_EQ(part->height, window.y1 - window.y0 + 1);
+    for (int y = window.y0; y <= window.y1; ++y)
+      for (int x = window.x0; x <= window.x1; ++x)
+        ASSERT_EQ(part->at(x - window.x0, y - window.y0), field.at(x, y)) << x << "," << y;
+  }
+  for (const SampleRect outside :
+       {SampleRect{-1, 0, 5, 5}, SampleRect{0, 0, 211, 5}, SampleRect{4, 4, 4, 9}, SampleRect{9, 9, 3, 3}}) {
+    auto refused = readWindow(*pyramid, outside);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(int(refused.error().kind), int(ErrorKind::InvalidArgument));
+  }
+}
+
 TEST(Pyramid, ATileBuildsTheSameHierarchyAsTheFullResolutionAtLevelZero) {
   const Heightfield field = makeField(100, 100, 3);
   TempFolder folder;

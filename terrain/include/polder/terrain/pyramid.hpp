@@ -140,6 +140,12 @@ bool looksLikePyramid(const std::filesystem::path& path);
 // the tiles' own errors as readTile gives them. `progress` as elsewhere, 0..1.
 Result<Heightfield> readFullResolution(const Pyramid& pyramid, const std::function<void(float)>& progress = {});
 
+// The full resolution over `window` (inclusive sample bounds, row 0 south), at least 2 x 2
+// inside the DEM, from the level-0 tiles that overlap it only. InvalidArgument for a window
+// outside; otherwise as readFullResolution.
+Result<Heightfield> readWindow(const Pyramid& pyramid, const SampleRect& window,
+                               const std::function<void(float)>& progress = {});
+
 // The samples of level `level` per side: floor((samples - 1) / 2^level) + 1.
 inline int levelSamples(int samples, int level) { return (samples - 1) / (1 << level) + 1; }
 
