@@ -65,7 +65,8 @@ int runRender(RenderArguments arguments) {
       // The engine keeps the heights; nothing below reads dem->field again.
       auto engine = TerrainEngine::create(std::make_shared<terrain::Heightfield>(std::move(dem->field)), options);
       if (!engine) return reportError(engine.error());
-      const TerrainFrame& frame = (*engine)->update(*camera);
+      // One picture: wait for the blocks it shows rather than draw their ancestors.
+      const TerrainFrame& frame = (*engine)->updateSettled(*camera);
       TerrainDrawer drawer(renderer);
       if (Status synced = drawer.sync(frame); !synced) return reportError(synced.error());
       renderer.beginFrame(*camera, style);

@@ -1,5 +1,7 @@
 #include <polder/terrain/dike_stage.hpp>
 
+#include <algorithm>
+
 #include <cassert>
 
 namespace polder::terrain {
@@ -72,8 +74,22 @@ bool DikeStage::stitch(std::span<const SelectedNode> cut, std::span<const BlockM
 
 WatertightReport DikeStage::checkWatertight() const {
   TriangleSoup soup;
-  for (const DikeBlock& block : m_blocks)
-    if (block.mesh) soup.addBlock(*block.mesh);
+  for (const DikeBlock& block : m_blocks) {
+    if (block.mesh) {
+      soup.addBlock(*block.mesh);
+      continue;
+    }
+    // A node without a mesh stitches as its corners (DikeBlock): the two triangles between
+    // them, cut from south-east to north-west, are its surface.
+    const SampleRect fp = m_layout.footprint(block.node);
+    const int stride = m_layout.stride(block.node);
+    const int n = 1 << m_layout.k();
+    const int x1 = fp.x0 + std::min(n, (m_layout.width() - 1 - fp.x0) / stride) * stride;
+    const int y1 = fp.y0 + std::min(n, (m_layout.height() - 1 - fp.y0) / stride) * stride;
+    const GridPoint sw{fp.x0, fp.y0}, se{x1, fp.y0}, ne{x1, y1}, nw{fp.x0, y1};
+    soup.addTriangle(sw, se, nw);
+    soup.addTriangle(se, ne, nw);
+  }
   soup.addDikes(m_mesh);
   WatertightReport report = terrain::checkWatertight(soup, m_layout.width(), m_layout.height());
   if (m_failed) ++report.openEdges;  // no dikes at all: count the frame as broken

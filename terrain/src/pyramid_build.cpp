@@ -363,7 +363,7 @@ class Builder {
     for (int bx = 0; bx < columns; ++bx) {
       PyramidNode& data = m_nodes[index(NodeId{std::uint8_t(level), std::uint32_t(bx), std::uint32_t(by)})];
       float lo = data.minHeight, hi = data.maxHeight;
-      for (const auto [dx, dy] : {std::pair{-1, 0}, std::pair{0, -1}, std::pair{-1, -1}}) {
+      for (const auto& [dx, dy] : {std::pair{-1, 0}, std::pair{0, -1}, std::pair{-1, -1}}) {
         if (bx + dx < 0 || by + dy < 0) continue;
         const PyramidNode& n =
             m_nodes[index(NodeId{std::uint8_t(level), std::uint32_t(bx + dx), std::uint32_t(by + dy)})];

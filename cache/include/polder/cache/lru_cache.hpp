@@ -36,6 +36,12 @@ class LruCache {
     return &it->second->value;
   }
 
+  // The value for `key`, or nullptr, without counting a use or changing the order.
+  const Value* peek(const Key& key) const {
+    const auto it = m_index.find(key);
+    return it == m_index.end() ? nullptr : &it->second->value;
+  }
+
   // Inserts or replaces `key`, then evicts least recently used entries (never the new one)
   // until the total is within budget. An entry larger than the whole budget is kept
   // alone rather than refused: the caller asked for it this frame.

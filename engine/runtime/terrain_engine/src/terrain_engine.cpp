@@ -14,6 +14,7 @@
 #include <polder/thread_pool.hpp>
 
 #include <polder/terrain/dike_stage.hpp>
+#include "block_lod_loader.hpp"
 #include "dike_check.hpp"
 #include "terrain_pieces.hpp"
 
@@ -48,10 +49,22 @@ struct TerrainEngine::Impl {
   terrain::BlockLayout layout;
   terrain::BlockQuadtree quadtree;
   TerrainEngineOptions options;
+  std::unique_ptr<core::ThreadPool> pool;
 
-  // Error hierarchies of the nodes frames have needed, least recently used evicted. A miss
-  // builds one (allocates): that happens while the view changes, not in steady state.
-  cache::LruCache<std::uint64_t, terrain::BlockLod> lods{std::size_t(64) << 20};
+  // Error hierarchies of the nodes frames have needed, least recently needed evicted (the
+  // selection's residency test touches every node it visits). The root's is kept apart and
+  // never evicted: the cut falls back to it at worst, so it never has a hole.
+  cache::LruCache<std::uint64_t, terrain::BlockLod> lods;
+  std::unique_ptr<terrain::BlockLod> rootLod;
+  std::unique_ptr<BlockLodLoader> loader;  // BlockLoading::Background
+  std::vector<BlockLodRequest> requests;   // this frame's, handed to the loader
+  std::vector<LoadedBlockLod> arrived;     // collected from the loader
+  std::vector<float> loadMs;
+  TerrainLoadStats loadStats;
+  // The camera's motion, for loading ahead of it.
+  glm::dvec3 lastCameraPosition{0.0};
+  bool haveLastCamera = false;
+  std::vector<terrain::SelectedNode> predictedCut;
   cache::LodCache meshes;
 
   // Per-frame storage, reserved once.
@@ -85,11 +98,13 @@ struct TerrainEngine::Impl {
   std::vector<MeshData> pieceMeshes;      // frameMeshes() storage, reused
 
   Impl(std::shared_ptr<const terrain::Heightfield> f, terrain::BlockLayout l, terrain::BlockQuadtree q,
-       const TerrainEngineOptions& o)
+       const TerrainEngineOptions& o, std::unique_ptr<core::ThreadPool> p)
       : field(std::move(f)),
         layout(l),
         quadtree(std::move(q)),
         options(o),
+        pool(std::move(p)),
+        lods(o.lodDataBytes),
         meshes(cacheOptions(o)),
         dikes(*field, layout),
         dikeCheck(*field, layout),
@@ -108,15 +123,129 @@ struct TerrainEngine::Impl {
     dikeCheck.reserve(bound);
     forcedSplits.reserve(kMaxForcedSplits);
     forcedSplitDistances.reserve(kMaxForcedSplits);
+    predictedCut.reserve(bound);
+    if (options.loading == BlockLoading::Background) {
+      // A blocked node asks for at most its four children; culled nodes for themselves.
+      const std::size_t most = 4 * bound;
+      requests.reserve(most);
+      arrived.reserve(most);
+      loader = std::make_unique<BlockLodLoader>(
+          *pool,
+          [this](const terrain::NodeId& node) { return terrain::BlockLod::build(*field, layout.interior(node)); },
+          most);
+    }
   }
+  ~Impl() { loader.reset(); }  // the workers' builds read the field
 
+  // The node's hierarchy if resident; in Immediate mode built now if not. Null also for a
+  // node with no whole cell inside the DEM, which selection never draws.
   const terrain::BlockLod* lodFor(const terrain::NodeId& node) {
+    if (node == layout.root()) return rootLod.get();
     const std::uint64_t key = nodeKey(node);
     if (terrain::BlockLod* cached = lods.find(key)) return cached;
+    if (loader) return nullptr;
     auto built = terrain::BlockLod::build(*field, layout.interior(node));
-    if (!built) return nullptr;  // no whole cell inside the DEM: selection never draws such nodes
+    if (!built) return nullptr;
     const std::size_t bytes = built->memoryBytes();
     return &lods.insert(key, std::move(*built), bytes);
+  }
+
+  bool drawable(const terrain::NodeId& node) const { return std::isfinite(quadtree.info(node).floorDelta()); }
+
+  // Selection may refine into `node`: its hierarchy is resident, or it cannot be drawn at
+  // its stride (a DEM-edge node) and the children it gives way to are.
+  bool resident(const terrain::NodeId& node) {
+    if (node == layout.root() || lods.find(nodeKey(node))) return true;
+    if (drawable(node) || node.level == 0) return false;
+    for (int quadrant = 0; quadrant < 4; ++quadrant) {
+      const terrain::NodeId child = node.child(quadrant);
+      if (layout.exists(child) && !resident(child)) return false;
+    }
+    return true;
+  }
+
+  // Takes in what the loaders finished since the last frame.
+  void collectLoads(TerrainFrameStats& stats) {
+    if (!loader || !loader->collect(arrived)) return;
+    for (LoadedBlockLod& loaded : arrived) {
+      if (!loaded.lod) {
+        ++loadStats.failures;
+        continue;
+      }
+      const std::size_t bytes = loaded.lod->memoryBytes();
+      lods.insert(nodeKey(loaded.node), std::move(*loaded.lod), bytes);
+      loadMs.push_back(float(loaded.buildMs));
+      ++loadStats.loads;
+      ++stats.loadsArrived;
+    }
+    arrived.clear();
+    loadStats.evictions = lods.counters().evictions;
+  }
+
+  // Asks for `node`, or where it cannot be drawn, for the children it gives way to.
+  void request(const terrain::NodeId& node, double priority) {
+    if (requests.size() == requests.capacity()) return;
+    if (node.level > 0 && !drawable(node)) {
+      for (int quadrant = 0; quadrant < 4; ++quadrant) {
+        const terrain::NodeId child = node.child(quadrant);
+        if (layout.exists(child) && !resident(child)) request(child, priority);
+      }
+      return;
+    }
+    if (!lods.peek(nodeKey(node))) requests.push_back(BlockLodRequest{node, priority});
+  }
+
+  // The projected error a node's absence leaves: its own, seen from `distance`.
+  double projectedError(const terrain::NodeId& node, double distance, const Camera& camera) const {
+    const double error = quadtree.info(node).floorDelta();
+    return camera.errorProjectionConstant() * error / std::max(distance, std::max(camera.nearM, 1e-3));
+  }
+
+  // Background mode: what this frame lacks, most visible error first, then what the camera
+  // will need half a second ahead on its present course, then the culled nodes of the cut,
+  // whose sides only shape the dikes.
+  void requestLoads(const Camera& camera, TerrainFrameStats& stats) {
+    if (!loader) return;
+    requests.clear();
+    for (const terrain::SelectedNode& selected : cut) {
+      if (!selected.visible || !selected.refinementBlocked) continue;
+      const double priority = projectedError(selected.node, selected.distanceM, camera);
+      for (int quadrant = 0; quadrant < 4; ++quadrant) {
+        const terrain::NodeId child = selected.node.child(quadrant);
+        if (layout.exists(child) && !resident(child)) request(child, priority);
+      }
+    }
+    if (haveLastCamera) {
+      constexpr double kLookaheadFrames = 30.0;
+      Camera ahead = camera;
+      ahead.position += (camera.position - lastCameraPosition) * kLookaheadFrames;
+      if (ahead.position != camera.position) {
+        terrain::SelectionOptions selection;
+        selection.tolerancePx = options.tauPx;
+        selection.errorMeasure = terrain::NodeErrorMeasure::Floor;
+        const auto residentAhead = [this](const terrain::NodeId& node) {
+          return node == layout.root() || lods.peek(nodeKey(node)) != nullptr || !drawable(node);
+        };
+        quadtree.select(ahead, selection, selectionScratch, predictedCut, residentAhead);
+        for (const terrain::SelectedNode& selected : predictedCut) {
+          if (!selected.visible || !selected.refinementBlocked) continue;
+          // Ranked below every need of the present frame.
+          const double priority = 1e-3 * projectedError(selected.node, selected.distanceM, ahead);
+          for (int quadrant = 0; quadrant < 4; ++quadrant) {
+            const terrain::NodeId child = selected.node.child(quadrant);
+            if (layout.exists(child)) request(child, priority);
+          }
+        }
+      }
+    }
+    for (const terrain::SelectedNode& selected : cut)
+      if (!selected.visible && selected.node != layout.root()) request(selected.node, 1e-9);
+    lastCameraPosition = camera.position;
+    haveLastCamera = true;
+    // Duplicates (a node wanted now and ahead) are skipped by the loader; the list's order
+    // decides which copy counts.
+    stats.loadsRequested = requests.size();
+    loader->post(requests);
   }
 
   // K here bounds a vertical error's pixels anywhere in the view (Camera::errorProjectionConstant).
@@ -130,7 +259,12 @@ struct TerrainEngine::Impl {
     selection.tolerancePx = options.mode == LodMode::PixelError ? options.tauPx : 1.0;
     selection.errorMeasure = terrain::NodeErrorMeasure::Floor;
     if (options.mode == LodMode::PixelError) selection.forcedSplits = forcedSplits;
-    quadtree.select(camera, selection, selectionScratch, cut);
+    if (loader) {
+      const auto isResident = [this](const terrain::NodeId& node) { return resident(node); };
+      quadtree.select(camera, selection, selectionScratch, cut, isResident);
+    } else {
+      quadtree.select(camera, selection, selectionScratch, cut);
+    }
     cutMeshes.assign(cut.size(), nullptr);
   }
 
@@ -256,13 +390,22 @@ Result<std::unique_ptr<TerrainEngine>> TerrainEngine::create(std::shared_ptr<con
   if (!(options.alpha > 0.0)) return makeError(ErrorKind::InvalidArgument, "the allocator's alpha must be positive");
   auto layout = terrain::BlockLayout::create(field->width, field->height, options.blockK);
   if (!layout) return layout.error();
-  core::ThreadPool pool(options.threads);
+  auto pool = std::make_unique<core::ThreadPool>(options.threads);
   terrain::BlockQuadtreeOptions treeOptions;
   treeOptions.progress = progress;
-  treeOptions.pool = &pool;
+  treeOptions.pool = pool.get();
   auto quadtree = terrain::BlockQuadtree::build(*field, *layout, treeOptions);
   if (!quadtree) return quadtree.error();
-  auto impl = std::make_unique<Impl>(std::move(field), *layout, std::move(*quadtree), options);
+  // The root's hierarchy, which every cut can fall back to. A root with no whole cell at its
+  // stride is never drawn (selection refines it), so it needs none.
+  std::unique_ptr<terrain::BlockLod> rootLod;
+  if (std::isfinite(quadtree->info(layout->root()).floorDelta())) {
+    auto built = terrain::BlockLod::build(*field, layout->interior(layout->root()));
+    if (!built) return built.error();
+    rootLod = std::make_unique<terrain::BlockLod>(std::move(*built));
+  }
+  auto impl = std::make_unique<Impl>(std::move(field), *layout, std::move(*quadtree), options, std::move(pool));
+  impl->rootLod = std::move(rootLod);
   return std::unique_ptr<TerrainEngine>(new TerrainEngine(std::move(impl)));
 }
 
@@ -272,6 +415,18 @@ TerrainEngine::~TerrainEngine() = default;
 const TerrainFrame& TerrainEngine::update(const Camera& camera) {
   beginFrame(camera);
   return finishFrame(camera, m_impl->options.budgetTriangles);
+}
+
+const TerrainFrame& TerrainEngine::updateSettled(const Camera& camera) {
+  // Each round loads at least the next level of what is missing; the dike check's splits
+  // may add a few rounds.
+  const int rounds = 4 * (m_impl->layout.root().level + 2);
+  for (int round = 0; round < rounds; ++round) {
+    const TerrainFrame& frame = update(camera);
+    if (!m_impl->loader || (frame.stats.blocksOnAncestor == 0 && frame.stats.loadsRequested == 0)) return frame;
+    waitForLoads();
+  }
+  return update(camera);
 }
 
 std::span<const lod::RegionDemand> TerrainEngine::beginFrame(const Camera& camera) {
@@ -287,7 +442,9 @@ std::span<const lod::RegionDemand> TerrainEngine::beginFrame(const Camera& camer
   //    everything else within tau.
   s.expireForcedSplits(camera);
   const auto start = Clock::now();
+  s.collectLoads(s.frameStats);
   s.select(camera);
+  s.requestLoads(camera, s.frameStats);
   if (s.options.mode == LodMode::TriangleBudget) s.prepareBudget(camera);
   s.frameStats.selectMs = millisecondsSince(start);
   if (s.options.mode == LodMode::TriangleBudget) return s.demands;
@@ -346,6 +503,7 @@ const TerrainFrame& TerrainEngine::finishFrame(const Camera& camera, std::uint64
     }
     if (!s.cutMeshes[i]) continue;
     ++stats.visibleBlocks;
+    if (s.cut[i].refinementBlocked) ++stats.blocksOnAncestor;
     stats.blockTriangles += s.cutMeshes[i]->triangleCount();
     s.frame.blocks.push_back(TerrainBlockDraw{s.cut[i].node, s.cutMeshes[i]});
   }
@@ -393,6 +551,18 @@ std::span<const MeshData> TerrainEngine::frameMeshes() {
 terrain::WatertightReport TerrainEngine::checkWatertight() const { return m_impl->dikes.checkWatertight(); }
 
 const TerrainFrame& TerrainEngine::frame() const { return m_impl->frame; }
+
+const TerrainLoadStats& TerrainEngine::loadStats() const {
+  Impl& s = *m_impl;
+  s.loadStats.residentBlocks = s.lods.size() + (s.rootLod ? 1 : 0);
+  s.loadStats.residentBytes = s.lods.bytes() + (s.rootLod ? s.rootLod->memoryBytes() : 0);
+  s.loadStats.loadMs = s.loadMs;
+  return s.loadStats;
+}
+
+void TerrainEngine::waitForLoads() {
+  if (m_impl->loader) m_impl->loader->waitIdle();
+}
 const terrain::Heightfield& TerrainEngine::field() const { return *m_impl->field; }
 const terrain::BlockLayout& TerrainEngine::layout() const { return m_impl->layout; }
 const TerrainEngineOptions& TerrainEngine::options() const { return m_impl->options; }

@@ -38,6 +38,17 @@ enum class LodMode {
   TriangleBudget,  // the allocator splits budgetTriangles over the visible blocks
 };
 
+// Where blocks' error hierarchies (BlockLod) are built when a frame first needs them.
+enum class BlockLoading {
+  // On the engine's worker threads: the frame thread never builds one. Until a block's is
+  // ready the frame draws the block's resident ancestor instead (TerrainFrameStats::
+  // blocksOnAncestor), never a hole. For flights.
+  Background,
+  // On the frame thread, at once: every frame is at its selected level, at the cost of
+  // stalls while the view changes. For single pictures and exact comparisons.
+  Immediate,
+};
+
 struct TerrainEngineOptions {
   int blockK = 5;  // blocks of 2^k + 1 samples: 17, 33, 65, 129
   LodMode mode = LodMode::PixelError;
@@ -46,7 +57,22 @@ struct TerrainEngineOptions {
   double alpha = 3.0;                      // the allocator's attenuation exponent
   std::size_t cacheBytes = std::size_t(256) << 20;
   bool cacheEnabled = true;  // false: rebuild every block every frame (for comparisons)
-  int threads = 0;           // threads that build the block errors in create(); <= 0: all
+  // The engine's one thread pool: create()'s preprocessing and the background loads. <= 0:
+  // one per hardware thread.
+  int threads = 0;
+  BlockLoading loading = BlockLoading::Background;
+  // Resident error hierarchies (about 22 KB a 33^2 block), least recently needed evicted.
+  std::size_t lodDataBytes = std::size_t(128) << 20;
+};
+
+// The loads since the engine was made.
+struct TerrainLoadStats {
+  std::uint64_t loads = 0;     // hierarchies built
+  std::uint64_t failures = 0;  // builds that failed: the block stays on its ancestor
+  std::uint64_t evictions = 0;
+  std::size_t residentBlocks = 0;
+  std::size_t residentBytes = 0;
+  std::span<const float> loadMs;  // per load, in order; valid until the next update()
 };
 
 class TerrainEngine {
@@ -59,6 +85,10 @@ class TerrainEngine {
   TerrainEngine& operator=(const TerrainEngine&) = delete;
 
   const TerrainFrame& update(const Camera& camera);
+  // update(), repeated after waiting for the loads each frame asks for until every visible
+  // block is at its selected level: for a single picture, a test or a measurement of the
+  // selected level, never in a flight (it waits). update() itself in Immediate mode.
+  const TerrainFrame& updateSettled(const Camera& camera);
   // The last frame update() or finishFrame() returned (empty before the first).
   const TerrainFrame& frame() const;
 
@@ -79,6 +109,10 @@ class TerrainEngine {
   // Checks the last frame's whole cut, blocks and dikes together, on the integer sample
   // grid: open edges, T-junctions, overlaps, holes. Allocates; for tests and benchmarks.
   terrain::WatertightReport checkWatertight() const;
+
+  const TerrainLoadStats& loadStats() const;
+  // Blocks until the loads the last frame asked for are built (none in Immediate mode).
+  void waitForLoads();
 
   const terrain::Heightfield& field() const;
   const terrain::BlockLayout& layout() const;

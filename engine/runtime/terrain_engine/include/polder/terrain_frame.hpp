@@ -64,6 +64,11 @@ struct TerrainFrameStats {
   double dikesMs = 0.0;
   double piecesMs = 0.0;  // host-ready vertex data of the created and changed pieces
   double totalMs = 0.0;
+  // Visible blocks drawn in place of finer ones whose data are not resident yet (BlockLoading::
+  // Background); a frame with any is coarser than tau asks, its error reported apart.
+  std::size_t blocksOnAncestor = 0;
+  std::size_t loadsArrived = 0;    // hierarchies that became resident at the start of this frame
+  std::size_t loadsRequested = 0;  // blocks this frame asked the loaders for
   std::uint64_t cacheLookups = 0;  // this frame
   std::uint64_t cacheHits = 0;
   std::uint64_t cacheRebuilds = 0;

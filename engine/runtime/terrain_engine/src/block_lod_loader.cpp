@@ -1,0 +1,98 @@
+#include "block_lod_loader.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+namespace polder {
+
+BlockLodLoader::BlockLodLoader(core::ThreadPool& pool, Build build, std::size_t reserve)
+    : m_pool(pool), m_build(std::move(build)), m_reserve(reserve), m_maxWorkers(std::max(pool.threadCount() - 1, 1)) {
+  m_pending.reserve(reserve);
+  m_building.reserve(std::size_t(m_maxWorkers));
+  m_finished.reserve(reserve);
+}
+
+BlockLodLoader::~BlockLodLoader() {
+  std::unique_lock lock(m_mutex);
+  m_stopping = true;
+  m_changed.wait(lock, [&] { return m_workers == 0; });
+}
+
+bool BlockLodLoader::post(std::vector<BlockLodRequest>& requests) {
+  std::unique_lock lock(m_mutex, std::try_to_lock);
+  if (!lock.owns_lock()) return false;
+  std::sort(requests.begin(), requests.end(),
+            [](const BlockLodRequest& a, const BlockLodRequest& b) { return a.priority > b.priority; });
+  if (requests.size() > m_reserve) requests.resize(m_reserve);
+  m_pending.swap(requests);
+  requests.clear();
+  m_next = 0;
+  startWorkers();
+  return true;
+}
+
+bool BlockLodLoader::collect(std::vector<LoadedBlockLod>& finished) {
+  std::unique_lock lock(m_mutex, std::try_to_lock);
+  if (!lock.owns_lock()) return false;
+  m_finished.swap(finished);
+  return true;
+}
+
+void BlockLodLoader::waitIdle() {
+  std::unique_lock lock(m_mutex);
+  m_changed.wait(lock, [&] { return m_workers == 0 && m_next == m_pending.size(); });
+}
+
+bool BlockLodLoader::idle() const {
+  std::lock_guard lock(m_mutex);
+  return m_workers == 0 && m_next == m_pending.size();
+}
+
+// Under m_mutex.
+void BlockLodLoader::startWorkers() {
+  const std::size_t waiting = m_pending.size() - m_next;
+  while (!m_stopping && m_workers < m_maxWorkers && std::size_t(m_workers) < waiting) {
+    ++m_workers;
+    m_pool.enqueue([this] { work(); });
+  }
+}
+
+void BlockLodLoader::work() {
+  std::unique_lock lock(m_mutex);
+  for (;;) {
+    // The most wanted request that no other worker builds and that is not waiting to be
+    // collected.
+    const auto duplicate = [&](const terrain::NodeId& node) {
+      if (std::find(m_building.begin(), m_building.end(), node) != m_building.end()) return true;
+      return std::any_of(m_finished.begin(), m_finished.end(),
+                         [&](const LoadedBlockLod& done) { return done.node == node; });
+    };
+    while (m_next < m_pending.size() && duplicate(m_pending[m_next].node)) ++m_next;
+    if (m_stopping || m_next == m_pending.size()) break;
+    const terrain::NodeId node = m_pending[m_next++].node;
+    m_building.push_back(node);
+    lock.unlock();
+
+    LoadedBlockLod loaded;
+    loaded.node = node;
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      auto built = m_build(node);
+      if (built)
+        loaded.lod = std::make_unique<terrain::BlockLod>(std::move(*built));
+      else
+        loaded.error = built.error().message;
+    } catch (const std::exception& failure) {  // out of memory, mostly: the node stays unloaded
+      loaded.error = failure.what();
+    }
+    loaded.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+
+    lock.lock();
+    m_building.erase(std::find(m_building.begin(), m_building.end(), node));
+    m_finished.push_back(std::move(loaded));
+  }
+  --m_workers;
+  m_changed.notify_all();
+}
+
+}  // namespace polder

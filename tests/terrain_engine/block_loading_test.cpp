@@ -1,0 +1,108 @@
+// Background loading: blocks' error hierarchies are built by the engine's workers, and until
+// a block's is resident the frame draws its resident ancestor, watertight and without a hole.
+#include <polder/terrain_engine.hpp>
+
+#include <gtest/gtest.h>
+
+#include <polder/terrain/generator.hpp>
+
+namespace polder {
+namespace {
+
+std::shared_ptr<terrain::Heightfield> generated(int size, std::uint64_t seed) {
+  terrain::GeneratorOptions options;
+  options.size = size;
+  options.seed = seed;
+  options.spacingM = 30.0;
+  auto field = terrain::generateTerrain(options);
+  EXPECT_TRUE(field.ok());
+  return std::make_shared<terrain::Heightfield>(std::move(*field));
+}
+
+Camera lowCamera(const terrain::Heightfield& field, double x) {
+  Camera camera;
+  camera.widthPx = 320;
+  camera.heightPx = 240;
+  camera.position = {x, field.extentY() * 0.2, 1800.0};
+  camera.yawDeg = 30.0;
+  camera.pitchDeg = -20.0;
+  camera.nearM = 1.0;
+  camera.farM = 1e6;
+  return camera;
+}
+
+void expectCoveredAndWatertight(const TerrainEngine& engine, const std::string& when) {
+  const terrain::WatertightReport report = engine.checkWatertight();
+  EXPECT_TRUE(report.watertight()) << when << ": " << report.openEdges << " open edges, " << report.tJunctions
+                                   << " T-junctions, " << report.samplesUncovered << " uncovered, "
+                                   << report.samplesOverlapped << " overlapped";
+}
+
+TEST(BlockLoading, TheFirstFrameFallsBackToTheRootAndLaterFramesReachTheSelectedLevel) {
+  auto field = generated(513, 4);
+  auto engine = TerrainEngine::create(field, {});
+  ASSERT_TRUE(engine.ok()) << engine.error().message;
+  const Camera camera = lowCamera(*field, field->extentX() * 0.4);
+
+  // Nothing but the root is resident yet: the frame draws it, asks for the rest, and still
+  // covers the whole DEM without a crack.
+  const TerrainFrame& first = (*engine)->update(camera);
+  EXPECT_EQ(first.stats.visibleBlocks, 1u);
+  EXPECT_EQ(first.stats.blocksOnAncestor, 1u);
+  EXPECT_GT(first.stats.loadsRequested, 0u);
+  expectCoveredAndWatertight(**engine, "first frame");
+
+  // Once the loads are in, no visible block is on an ancestor and the cut is finer.
+  const TerrainFrame& settled = (*engine)->updateSettled(camera);
+  EXPECT_EQ(settled.stats.blocksOnAncestor, 0u);
+  EXPECT_GT(settled.stats.visibleBlocks, 8u);
+  expectCoveredAndWatertight(**engine, "settled frame");
+  const TerrainLoadStats& loads = (*engine)->loadStats();
+  EXPECT_GT(loads.loads, 0u);
+  EXPECT_EQ(loads.failures, 0u);
+  EXPECT_EQ(loads.loadMs.size(), loads.loads);
+}
+
+// Settled frames draw the blocks Immediate loading draws. (Their meshes may differ: the LOD
+// cache reuses what the frames before settling built, within tau.)
+TEST(BlockLoading, SettledFramesSelectWhatImmediateLoadingSelects) {
+  auto field = generated(257, 8);
+  TerrainEngineOptions immediateOptions;
+  immediateOptions.loading = BlockLoading::Immediate;
+  auto background = TerrainEngine::create(field, {});
+  auto immediate = TerrainEngine::create(field, immediateOptions);
+  ASSERT_TRUE(background.ok() && immediate.ok());
+  for (double x : {800.0, 2600.0, 5400.0}) {
+    const Camera camera = lowCamera(*field, x);
+    const TerrainFrame& a = (*background)->updateSettled(camera);
+    const TerrainFrame& b = (*immediate)->update(camera);
+    ASSERT_EQ(a.blocks.size(), b.blocks.size()) << "x " << x;
+    for (std::size_t i = 0; i < a.blocks.size(); ++i) EXPECT_EQ(a.blocks[i].node, b.blocks[i].node) << "x " << x;
+    expectCoveredAndWatertight(**background, "x " + std::to_string(x));
+  }
+}
+
+// A budget far below the flight's needs: hierarchies are evicted and loaded again, the
+// resident bytes stay within the budget (plus the root and the one entry the cache keeps
+// over it), and every frame stays whole.
+TEST(BlockLoading, ResidentHierarchiesStayWithinTheirBudget) {
+  auto field = generated(513, 6);
+  TerrainEngineOptions options;
+  options.lodDataBytes = std::size_t(1) << 20;
+  auto engine = TerrainEngine::create(field, options);
+  ASSERT_TRUE(engine.ok());
+  std::size_t onAncestor = 0;
+  for (int frame = 0; frame < 60; ++frame) {
+    const Camera camera = lowCamera(*field, 300.0 + 220.0 * frame);
+    const TerrainFrame& result = frame % 3 == 0 ? (*engine)->updateSettled(camera) : (*engine)->update(camera);
+    onAncestor += result.stats.blocksOnAncestor > 0;
+    const TerrainLoadStats& loads = (*engine)->loadStats();
+    EXPECT_LE(loads.residentBytes, options.lodDataBytes + 2 * (std::size_t(64) << 10)) << "frame " << frame;
+    if (frame % 6 == 0) expectCoveredAndWatertight(**engine, "frame " + std::to_string(frame));
+  }
+  EXPECT_GT((*engine)->loadStats().evictions, 0u);
+  EXPECT_GT((*engine)->loadStats().loads, 100u);
+}
+
+}  // namespace
+}  // namespace polder
