@@ -41,6 +41,7 @@ struct BenchArguments {
   int measureEvery = 30;
   bool compareCache = false;
   bool countCracks = false;
+  bool flatOut = false;
   std::string mode = "error";
   std::uint64_t budget = 200000;
   double alpha = 3.0;
@@ -130,6 +131,8 @@ Result<FlightRecord> flyMeasured(FlightRecorder& recorder, const BenchArguments&
   FlightOptions options;
   options.frames = arguments.frames;
   options.checkEvery = arguments.measureEvery;
+  options.paced = !arguments.flatOut;
+  options.settleFirstFrame = true;
   return recorder.fly(options, hooks);
 }
 
@@ -142,6 +145,7 @@ Result<FlightRecord> flyWithoutCache(FlightRecorder& recorder, int frames) {
   options.frames = frames;
   options.checkEvery = 0;
   options.withoutCache = true;
+  options.settleFirstFrame = true;
   return recorder.fly(options, hooks);
 }
 
@@ -246,6 +250,8 @@ int runBench(BenchArguments arguments) {
   }
 
   const double fullResolution = double(terrain::fullResolutionTriangleCount(*field));
+  const TerrainLoadStats& loads = (*engine)->loadStats();
+  const std::vector<double> loadMs(loads.loadMs.begin(), loads.loadMs.end());
   nlohmann::json report = {
       {"dem",
        {{"path", arguments.dem.path},
@@ -264,6 +270,7 @@ int runBench(BenchArguments arguments) {
         {"budget_tris", arguments.mode == "budget" ? nlohmann::json(arguments.budget) : nlohmann::json(nullptr)},
         {"cache", true},
         {"frames", arguments.frames},
+        {"paced_fps", arguments.flatOut ? nlohmann::json(nullptr) : nlohmann::json(kFlightFramesPerSecond)},
         {"path", arguments.path}}},
       {"triangles",
        {{"mean", summary.trianglesMean},
@@ -310,6 +317,17 @@ int runBench(BenchArguments arguments) {
        {{"bound_px_max", cached.dikeBoundMaxPx},
         {"frames_over_tau", cached.dikeFramesOverTau},
         {"triangles_over_tau_max", cached.dikeTrianglesOverTauMax}}},
+      {"streaming",
+       {{"loads", cached.loadsArrived},
+        {"load_ms", percentileJson(loadMs)},
+        {"load_failures", loads.failures},
+        {"evictions", loads.evictions},
+        {"frames_on_ancestor", cached.framesOnAncestor},
+        {"resident_mb_peak", double(cached.residentBytesPeak) / 1048576.0},
+        {"screen_error_on_ancestor_px",
+         {{"max", cached.errorOnAncestorMaxPx},
+          {"p99", cached.errorOnAncestorP99Px},
+          {"frames_measured", cached.framesMeasuredOnAncestor}}}}},
       {"memory", {{"peak_rss_mb", peakRssMb()}}},
   };
   if (comparison) {
@@ -353,6 +371,15 @@ int runBench(BenchArguments arguments) {
               static_cast<unsigned long long>(cached.cacheRebuilds));
   std::printf("%-34s max %.3f px, p99 %.3f px over %d frames (tau %.2f)\n", "measured screen-space error",
               cached.errorMaxPx, cached.errorP99Px, cached.framesMeasured, arguments.tauPx);
+  if (cached.framesMeasuredOnAncestor > 0)
+    std::printf("%-34s max %.3f px, p99 %.3f px over %d frames partly on ancestors\n", "", cached.errorOnAncestorMaxPx,
+                cached.errorOnAncestorP99Px, cached.framesMeasuredOnAncestor);
+  {
+    const Percentiles loadPercentiles = percentiles(loadMs);
+    std::printf("%-34s %llu loads (%.2f ms median, %.2f p99); %d frames partly on ancestors; %.0f MB resident peak\n",
+                "block loading", static_cast<unsigned long long>(cached.loadsArrived), loadPercentiles.median,
+                loadPercentiles.p99, cached.framesOnAncestor, double(cached.residentBytesPeak) / 1048576.0);
+  }
   std::printf("%-34s %zu open edges, %zu T-junctions over %d frames\n", "watertight", cached.openEdges,
               cached.tJunctions, cached.framesChecked);
   if (arguments.mode != "budget")
@@ -398,6 +425,8 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   command->add_flag("--compare-cache", arguments->compareCache, "Fly the path again without the LOD cache and compare");
   command->add_flag("--count-cracks", arguments->countCracks,
                     "With --render gl: read every frame back and count pixel cracks between triangles");
+  command->add_flag("--flat-out", arguments->flatOut,
+                    "Frames back to back, not at 60 per second: background loads then lag further behind");
   command->add_option("--mode", arguments->mode, "error (tau) or budget (triangle budget)")->capture_default_str();
   command->add_option("--budget", arguments->budget, "Triangles per frame in budget mode, dikes included")
       ->capture_default_str();

@@ -37,7 +37,12 @@ class FlightRecorderTest : public ::testing::Test {
 
  private:
   static std::unique_ptr<TerrainEngine> makeEngine() {
-    auto created = TerrainEngine::create(std::make_shared<terrain::Heightfield>(test::generatedTerrain(257, 11)));
+    // Every frame at its selected level, so that what the hooks see does not hang on when
+    // background loads arrive.
+    TerrainEngineOptions options;
+    options.loading = BlockLoading::Immediate;
+    auto created =
+        TerrainEngine::create(std::make_shared<terrain::Heightfield>(test::generatedTerrain(257, 11)), options);
     EXPECT_TRUE(created.ok());
     return std::move(*created);
   }

@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <exception>
-#include <mutex>
 
 namespace polder::core {
 
@@ -21,10 +20,6 @@ struct ThreadPool::Arena {
     arena.initialize();
   }
   tbb::task_arena arena;
-  // enqueue()'s tasks: the pool's threads but the caller's, and no slot kept for a caller
-  // (none joins), so that they start at once; made on the first enqueue.
-  std::once_flag backgroundMade;
-  tbb::task_arena background;
 };
 
 ThreadPool::ThreadPool(int threads) : m_arena(std::make_unique<Arena>(threads)) {}
@@ -84,11 +79,6 @@ void ThreadPool::runWithBackground(const std::function<void(Background&)>& lead)
     }
     if (leadFailed) std::rethrow_exception(leadFailed);
   });
-}
-
-void ThreadPool::enqueue(std::function<void()> task) {
-  std::call_once(m_arena->backgroundMade, [&] { m_arena->background.initialize(std::max(threadCount() - 1, 1), 0); });
-  m_arena->background.enqueue(std::move(task));
 }
 
 }  // namespace polder::core

@@ -59,12 +59,6 @@ class ThreadPool {
   };
   void runWithBackground(const std::function<void(Background&)>& lead);
 
-  // Starts `task` on a worker thread and returns at once: for loaders that run beside the
-  // calling thread rather than under a call that waits for them. At most threadCount() - 1
-  // such tasks run at once (one where threadCount() is 1), leaving the caller its core. The
-  // caller keeps what the task uses alive until the task ends; the task must not throw.
-  void enqueue(std::function<void()> task);
-
  private:
   using RangeCall = void (*)(const void*, std::size_t, std::size_t);
   using HalfCall = void (*)(const void*, int);

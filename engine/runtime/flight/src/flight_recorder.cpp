@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <thread>
 
 namespace polder {
 namespace {
@@ -37,6 +38,8 @@ void recordStats(const TerrainFrameStats& stats, FlightRecord& record) {
   record.dikeBoundMaxPx = std::max(record.dikeBoundMaxPx, stats.dikeErrorPx);
   record.dikeFramesOverTau += stats.dikeTrianglesOverTau > 0;
   record.dikeTrianglesOverTauMax = std::max(record.dikeTrianglesOverTauMax, stats.dikeTrianglesOverTau);
+  record.framesOnAncestor += stats.blocksOnAncestor > 0;
+  record.loadsArrived += stats.loadsArrived;
 }
 
 }  // namespace
@@ -63,7 +66,13 @@ Result<FlightRecord> FlightRecorder::fly(const FlightOptions& options, const Fli
   FlightRecord record;
   record.frames = options.frames;
   reserveFrames(record, std::size_t(options.frames), bool(hooks.draw));
+  if (options.settleFirstFrame) (void)m_engine.updateSettled(camera(0));
+  const auto flightStart = std::chrono::steady_clock::now();
+  const std::chrono::duration<double> framePeriod(1.0 / kFlightFramesPerSecond);
   for (int frameIndex = 0; frameIndex < options.frames; ++frameIndex) {
+    if (options.paced)
+      std::this_thread::sleep_until(
+          flightStart + std::chrono::duration_cast<std::chrono::steady_clock::duration>(frameIndex * framePeriod));
     const bool checked = options.checkEvery > 0 && frameIndex % options.checkEvery == 0;
     recordFrame(frameIndex, checked, hooks, record);
     if (hooks.progress) hooks.progress(float(frameIndex + 1) / float(options.frames));
@@ -76,6 +85,7 @@ void FlightRecorder::recordFrame(int frameIndex, bool checked, const FlightHooks
   const Camera camera = this->camera(frameIndex);
   const TerrainFrame& frame = m_engine.update(camera);
   recordStats(frame.stats, record);
+  record.residentBytesPeak = std::max(record.residentBytesPeak, m_engine.loadStats().residentBytes);
   if (hooks.draw) {
     const auto start = std::chrono::steady_clock::now();
     const std::size_t uploaded = hooks.draw(frame, camera);
@@ -91,9 +101,15 @@ void FlightRecorder::recordFrame(int frameIndex, bool checked, const FlightHooks
   if (!checked) return;
   if (hooks.measureError) {
     if (const std::optional<FrameScreenError> error = hooks.measureError(m_engine, camera)) {
-      record.errorMaxPx = std::max(record.errorMaxPx, error->maxPx);
-      record.errorP99Px = std::max(record.errorP99Px, error->p99Px);
-      ++record.framesMeasured;
+      if (frame.stats.blocksOnAncestor > 0) {
+        record.errorOnAncestorMaxPx = std::max(record.errorOnAncestorMaxPx, error->maxPx);
+        record.errorOnAncestorP99Px = std::max(record.errorOnAncestorP99Px, error->p99Px);
+        ++record.framesMeasuredOnAncestor;
+      } else {
+        record.errorMaxPx = std::max(record.errorMaxPx, error->maxPx);
+        record.errorP99Px = std::max(record.errorP99Px, error->p99Px);
+        ++record.framesMeasured;
+      }
     }
   }
   const terrain::WatertightReport report = m_engine.checkWatertight();

@@ -5,29 +5,37 @@
 
 namespace polder {
 
-BlockLodLoader::BlockLodLoader(core::ThreadPool& pool, Build build, std::size_t reserve)
-    : m_pool(pool), m_build(std::move(build)), m_reserve(reserve), m_maxWorkers(std::max(pool.threadCount() - 1, 1)) {
+BlockLodLoader::BlockLodLoader(int threads, Build build, std::size_t reserve)
+    : m_build(std::move(build)), m_reserve(reserve) {
+  threads = std::max(threads, 1);
   m_pending.reserve(reserve);
-  m_building.reserve(std::size_t(m_maxWorkers));
+  m_building.reserve(std::size_t(threads));
   m_finished.reserve(reserve);
+  m_threads.reserve(std::size_t(threads));
+  for (int i = 0; i < threads; ++i) m_threads.emplace_back([this] { work(); });
 }
 
 BlockLodLoader::~BlockLodLoader() {
-  std::unique_lock lock(m_mutex);
-  m_stopping = true;
-  m_changed.wait(lock, [&] { return m_workers == 0; });
+  {
+    std::lock_guard lock(m_mutex);
+    m_stopping = true;
+  }
+  m_wake.notify_all();
+  for (std::thread& thread : m_threads) thread.join();
 }
 
 bool BlockLodLoader::post(std::vector<BlockLodRequest>& requests) {
-  std::unique_lock lock(m_mutex, std::try_to_lock);
-  if (!lock.owns_lock()) return false;
-  std::sort(requests.begin(), requests.end(),
-            [](const BlockLodRequest& a, const BlockLodRequest& b) { return a.priority > b.priority; });
-  if (requests.size() > m_reserve) requests.resize(m_reserve);
-  m_pending.swap(requests);
-  requests.clear();
-  m_next = 0;
-  startWorkers();
+  {
+    std::unique_lock lock(m_mutex, std::try_to_lock);
+    if (!lock.owns_lock()) return false;
+    std::sort(requests.begin(), requests.end(),
+              [](const BlockLodRequest& a, const BlockLodRequest& b) { return a.priority > b.priority; });
+    if (requests.size() > m_reserve) requests.resize(m_reserve);
+    m_pending.swap(requests);
+    requests.clear();
+    m_next = 0;
+  }
+  if (!m_pending.empty()) m_wake.notify_all();
   return true;
 }
 
@@ -40,35 +48,31 @@ bool BlockLodLoader::collect(std::vector<LoadedBlockLod>& finished) {
 
 void BlockLodLoader::waitIdle() {
   std::unique_lock lock(m_mutex);
-  m_changed.wait(lock, [&] { return m_workers == 0 && m_next == m_pending.size(); });
+  m_changed.wait(lock, [&] { return m_building.empty() && !nextAvailable(); });
 }
 
 bool BlockLodLoader::idle() const {
   std::lock_guard lock(m_mutex);
-  return m_workers == 0 && m_next == m_pending.size();
+  return m_building.empty() && m_next == m_pending.size();
 }
 
-// Under m_mutex.
-void BlockLodLoader::startWorkers() {
-  const std::size_t waiting = m_pending.size() - m_next;
-  while (!m_stopping && m_workers < m_maxWorkers && std::size_t(m_workers) < waiting) {
-    ++m_workers;
-    m_pool.enqueue([this] { work(); });
-  }
+bool BlockLodLoader::nextAvailable() {
+  // The most wanted request that no other thread builds and that is not waiting to be
+  // collected.
+  const auto taken = [&](const terrain::NodeId& node) {
+    if (std::find(m_building.begin(), m_building.end(), node) != m_building.end()) return true;
+    return std::any_of(m_finished.begin(), m_finished.end(),
+                       [&](const LoadedBlockLod& done) { return done.node == node; });
+  };
+  while (m_next < m_pending.size() && taken(m_pending[m_next].node)) ++m_next;
+  return m_next < m_pending.size();
 }
 
 void BlockLodLoader::work() {
   std::unique_lock lock(m_mutex);
   for (;;) {
-    // The most wanted request that no other worker builds and that is not waiting to be
-    // collected.
-    const auto duplicate = [&](const terrain::NodeId& node) {
-      if (std::find(m_building.begin(), m_building.end(), node) != m_building.end()) return true;
-      return std::any_of(m_finished.begin(), m_finished.end(),
-                         [&](const LoadedBlockLod& done) { return done.node == node; });
-    };
-    while (m_next < m_pending.size() && duplicate(m_pending[m_next].node)) ++m_next;
-    if (m_stopping || m_next == m_pending.size()) break;
+    m_wake.wait(lock, [&] { return m_stopping || nextAvailable(); });
+    if (m_stopping) break;
     const terrain::NodeId node = m_pending[m_next++].node;
     m_building.push_back(node);
     lock.unlock();
@@ -90,9 +94,8 @@ void BlockLodLoader::work() {
     lock.lock();
     m_building.erase(std::find(m_building.begin(), m_building.end(), node));
     m_finished.push_back(std::move(loaded));
+    m_changed.notify_all();
   }
-  --m_workers;
-  m_changed.notify_all();
 }
 
 }  // namespace polder

@@ -1,5 +1,7 @@
-// Builds blocks' error hierarchies (BlockLod) on the engine's worker threads, so that the
-// frame thread never builds one (docs/streaming.md "Run time").
+// Builds blocks' error hierarchies (BlockLod) on loader threads of its own, so that the
+// frame thread never builds one (docs/streaming.md "Run time"). Its own threads, not tasks
+// on the engine's oneTBB workers: a frame keeps those workers in its arena from one frame to
+// the next, and a task left for them there would wait until the frame thread next blocks.
 //
 // The frame thread posts, once a frame, the nodes it wants, most wanted first; the list
 // replaces the last one, so a node the camera has left behind is never built. Workers take
@@ -16,12 +18,13 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <string>
+#include <thread>
 #include <vector>
 
 #include <polder/result.hpp>
 #include <polder/terrain/block_layout.hpp>
 #include <polder/terrain/rtin.hpp>
-#include <polder/thread_pool.hpp>
 
 namespace polder {
 
@@ -42,9 +45,10 @@ class BlockLodLoader {
   // Runs on the workers, any number at once, for one node at a time.
   using Build = std::function<Result<terrain::BlockLod>(const terrain::NodeId&)>;
 
-  // `reserve`: the most requests one post carries (more are dropped, least wanted first).
-  BlockLodLoader(core::ThreadPool& pool, Build build, std::size_t reserve);
-  // Stops taking requests and waits for the builds under way.
+  // `threads`: how many builds run at once (at least one). `reserve`: the most requests one
+  // post carries (more are dropped, least wanted first).
+  BlockLodLoader(int threads, Build build, std::size_t reserve);
+  // Stops taking requests, waits for the builds under way and ends the threads.
   ~BlockLodLoader();
   BlockLodLoader(const BlockLodLoader&) = delete;
   BlockLodLoader& operator=(const BlockLodLoader&) = delete;
@@ -64,21 +68,22 @@ class BlockLodLoader {
 
  private:
   void work();
-  void startWorkers();
+  // Under m_mutex: moves m_next past requests already built or being built; true when one
+  // is left to take.
+  bool nextAvailable();
 
-  core::ThreadPool& m_pool;
   Build m_build;
   std::size_t m_reserve;
-  int m_maxWorkers;
 
   mutable std::mutex m_mutex;
-  std::condition_variable m_changed;
+  std::condition_variable m_wake;          // work posted, or stopping
+  std::condition_variable m_changed;       // a build ended
   std::vector<BlockLodRequest> m_pending;  // most wanted first
   std::size_t m_next = 0;                  // first request of m_pending not yet taken
   std::vector<terrain::NodeId> m_building;
   std::vector<LoadedBlockLod> m_finished;
-  int m_workers = 0;  // tasks running work()
   bool m_stopping = false;
+  std::vector<std::thread> m_threads;  // last: they start once the rest is made
 };
 
 }  // namespace polder

@@ -129,8 +129,9 @@ struct TerrainEngine::Impl {
       const std::size_t most = 4 * bound;
       requests.reserve(most);
       arrived.reserve(most);
+      // One core is the frame's; the rest build.
       loader = std::make_unique<BlockLodLoader>(
-          *pool,
+          pool->threadCount() - 1,
           [this](const terrain::NodeId& node) { return terrain::BlockLod::build(*field, layout.interior(node)); },
           most);
     }

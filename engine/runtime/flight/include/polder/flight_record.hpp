@@ -45,11 +45,22 @@ struct FlightRecord {
   int dikeFramesOverTau = 0;
   std::size_t dikeTrianglesOverTauMax = 0;
 
+  // Background block loading: frames drawn partly from resident ancestors (coarser than
+  // tau asks while their blocks load), hierarchies that arrived, and the most LOD data
+  // resident at once.
+  int framesOnAncestor = 0;
+  std::uint64_t loadsArrived = 0;
+  std::size_t residentBytesPeak = 0;
+
   // The checked frames: screen-space error (the largest max and p99 over the frames the
-  // hook measured) and watertightness (sums of open edges and T-junctions).
+  // hook measured at their selected level; frames partly on ancestors apart) and
+  // watertightness (sums of open edges and T-junctions).
   int framesMeasured = 0;
   double errorMaxPx = 0.0;
   double errorP99Px = 0.0;
+  int framesMeasuredOnAncestor = 0;
+  double errorOnAncestorMaxPx = 0.0;
+  double errorOnAncestorP99Px = 0.0;
   int framesChecked = 0;
   std::size_t openEdges = 0, tJunctions = 0;
 };

@@ -42,6 +42,13 @@ struct FlightOptions {
   // Fly with the engine's LOD cache switched off, for comparisons; the engine's options are
   // restored afterwards.
   bool withoutCache = false;
+  // Start frame i no sooner than i / kFlightFramesPerSecond seconds into the flight, as a
+  // flight shown at that rate does, so that background loads get the time they would there
+  // (the wait counts in no frame's time). false: frames back to back.
+  bool paced = false;
+  // Load everything the first frame needs before flying (TerrainEngine::updateSettled), as a
+  // flight starts after its loading screen.
+  bool settleFirstFrame = false;
 };
 
 struct FlightHooks {

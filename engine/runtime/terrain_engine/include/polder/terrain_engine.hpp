@@ -40,7 +40,8 @@ enum class LodMode {
 
 // Where blocks' error hierarchies (BlockLod) are built when a frame first needs them.
 enum class BlockLoading {
-  // On the engine's worker threads: the frame thread never builds one. Until a block's is
+  // On the engine's loader threads (threads - 1 of them, at least one): the frame thread
+  // never builds one. Until a block's is
   // ready the frame draws the block's resident ancestor instead (TerrainFrameStats::
   // blocksOnAncestor), never a hole. For flights.
   Background,
@@ -57,8 +58,8 @@ struct TerrainEngineOptions {
   double alpha = 3.0;                      // the allocator's attenuation exponent
   std::size_t cacheBytes = std::size_t(256) << 20;
   bool cacheEnabled = true;  // false: rebuild every block every frame (for comparisons)
-  // The engine's one thread pool: create()'s preprocessing and the background loads. <= 0:
-  // one per hardware thread.
+  // Threads for create()'s preprocessing and each frame's parallel parts; the loaders are
+  // one fewer. <= 0: one per hardware thread.
   int threads = 0;
   BlockLoading loading = BlockLoading::Background;
   // Resident error hierarchies (about 22 KB a 33^2 block), least recently needed evicted.
