@@ -1,6 +1,8 @@
 #include <polder/flight_recorder.hpp>
 
+#include <chrono>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -190,6 +192,50 @@ TEST_F(FlightRecorderTest, SteadyFramesAllocateNothing) {
   options.checkEvery = 0;
   ASSERT_TRUE(stillRecorder.fly(options, hooks).ok());
   EXPECT_EQ(atLastFrame - atFrame5, 0u);
+}
+
+// With background loading a fresh engine has only the root's hierarchy: its first frame is
+// drawn partly from ancestors and its error is kept apart, unless the flight settles first.
+TEST(FlightRecorderLoadingTest, KeepsFramesOnAncestorsApartUnlessSettled) {
+  auto created = TerrainEngine::create(std::make_shared<terrain::Heightfield>(test::generatedTerrain(257, 11)));
+  ASSERT_TRUE(created.ok());
+  const CameraPath path = crossing();
+  FlightRecorder recorder(**created, path, smallLens());
+  FlightHooks hooks;
+  hooks.measureError = [](TerrainEngine&, const Camera&) { return std::optional(FrameScreenError{3.0, 2.0}); };
+  FlightOptions options;
+  options.frames = 1;
+  options.checkEvery = 1;
+
+  auto unsettled = recorder.fly(options, hooks);
+  ASSERT_TRUE(unsettled.ok());
+  EXPECT_EQ(unsettled->framesOnAncestor, 1);
+  EXPECT_EQ(unsettled->framesMeasuredOnAncestor, 1);
+  EXPECT_EQ(unsettled->framesMeasured, 0);
+  EXPECT_DOUBLE_EQ(unsettled->errorOnAncestorMaxPx, 3.0);
+  EXPECT_EQ(unsettled->openEdges + unsettled->tJunctions, 0u);  // coarser, never open
+
+  options.settleFirstFrame = true;
+  auto settled = recorder.fly(options, hooks);
+  ASSERT_TRUE(settled.ok());
+  EXPECT_EQ(settled->framesOnAncestor, 0);
+  EXPECT_EQ(settled->framesMeasured, 1);
+  EXPECT_DOUBLE_EQ(settled->errorMaxPx, 3.0);
+}
+
+TEST(FlightRecorderLoadingTest, PacedFramesStartAtTheFlightsRate) {
+  auto created = TerrainEngine::create(std::make_shared<terrain::Heightfield>(test::generatedTerrain(129, 3)));
+  ASSERT_TRUE(created.ok());
+  const CameraPath path = crossing();
+  FlightRecorder recorder(**created, path, smallLens());
+  FlightOptions options;
+  options.frames = 7;
+  options.checkEvery = 0;
+  options.paced = true;
+  const auto start = std::chrono::steady_clock::now();
+  ASSERT_TRUE(recorder.fly(options).ok());
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_GE(seconds, 6.0 / kFlightFramesPerSecond);  // frame 6 starts 6/60 s in
 }
 
 }  // namespace
