@@ -1,4 +1,5 @@
 #include "cli_support.hpp"
+#include "number_rules.hpp"
 
 #include <unistd.h>
 #include <algorithm>
@@ -16,8 +17,11 @@ namespace polder::cli {
 
 void addDemArguments(CLI::App& command, DemArguments& arguments) {
   command.add_option("dem", arguments.path, "DEM file (PNG, TIFF/GeoTIFF, EXR, .hgt, .r16/.raw/.f32)")->required();
-  command.add_option("--spacing", arguments.spacingM, "Sample spacing in metres (overrides the file)");
-  command.add_option("--zscale", arguments.zScale, "Metres per stored height unit")->capture_default_str();
+  command.add_option("--spacing", arguments.spacingM, "Sample spacing in metres (overrides the file)")
+      ->check(numberIn(rules::kSpacingM));
+  command.add_option("--zscale", arguments.zScale, "Metres per stored height unit")
+      ->check(numberIn(rules::kZScale))
+      ->capture_default_str();
   command
       .add_option("--encoding", arguments.encoding,
                   "Height encoding of RGB(A) images: auto|greyscale|terrain-rgb|terrarium")
@@ -149,6 +153,9 @@ Result<std::vector<double>> parseNumbers(std::string_view text, std::size_t coun
     if (part.empty() || error != std::errc() || end != part.data() + part.size() || !std::isfinite(value))
       return makeError(ErrorKind::InvalidArgument, std::string(what) + " expects " + std::to_string(count) +
                                                        " comma-separated numbers, got '" + std::string(text) + "'");
+    if (!checkNumber(value, rules::kCoordinateM, ""))
+      return makeError(ErrorKind::InvalidArgument,
+                       std::string(what) + ": " + std::string(part) + " must be " + describe(rules::kCoordinateM));
     values.push_back(value);
     start = comma + 1;
   }

@@ -4,15 +4,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include <polder/camera_path.hpp>
 #include <polder/enclosed_background.hpp>
+#include <polder/file_contents.hpp>
 #include <polder/flight_recorder.hpp>
 #include <polder/query/frame_cracks.hpp>
 #include <polder/query/query_scene.hpp>
@@ -24,6 +23,7 @@
 #include "bench_report.hpp"
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "number_rules.hpp"
 #include "terrain_drawing.hpp"
 
 namespace polder::cli {
@@ -89,13 +89,9 @@ Result<CameraPath> makePath(const BenchArguments& arguments, const terrain::Heig
     options.speedMps = arguments.speedMps;
     return makeOrbitLoop(field.extentX(), field.extentY(), ground, options);
   }
-  std::ifstream file(arguments.path);
-  if (!file)
-    return makeError(ErrorKind::Io, arguments.path + ": cannot open the camera path (give flyover, orbit or a file)");
-  std::stringstream text;
-  text << file.rdbuf();
-  auto path = CameraPath::parse(text.str());
-  if (!path) return makeError(path.error().kind, arguments.path + ": " + path.error().message);
+  auto path = CameraPath::readFile(arguments.path);
+  if (!path && path.error().kind == ErrorKind::InvalidArgument)  // the file's contents: data
+    return makeError(ErrorKind::InvalidData, path.error().message);
   return path;
 }
 
@@ -392,9 +388,8 @@ int runBench(BenchArguments arguments) {
   std::printf("%-34s %.0f MB\n", "peak memory", peakRssMb());
 
   if (!arguments.json.empty()) {
-    std::ofstream out(arguments.json);
-    out << report.dump(2) << "\n";
-    if (!out) return reportError(makeError(ErrorKind::Io, arguments.json + ": cannot write the report"));
+    if (Status written = core::writeFileContents(arguments.json, report.dump(2) + "\n"); !written)
+      return reportError(written.error());
     std::printf("%-34s %s\n", "report", arguments.json.c_str());
   }
   const bool withinTau = cached.errorMaxPx <= arguments.tauPx || arguments.mode == "budget";
@@ -412,15 +407,22 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
                       "seed002: the seed's 20x20 blocks of 33x33 at 40 m, 1000 m up, fov 40, 800x800");
   command->add_option("--path", arguments->path, "flyover, orbit, or a file of 't x y z yaw pitch' lines")
       ->capture_default_str();
-  command->add_option("--frames", arguments->frames, "Frames at 60 per second of flight")->capture_default_str();
-  command->add_option("--tau", arguments->tauPx, "Screen-space error tolerance in pixels")->capture_default_str();
+  command->add_option("--frames", arguments->frames, "Frames at 60 per second of flight")
+      ->check(numberIn(rules::kFrames))
+      ->capture_default_str();
+  command->add_option("--tau", arguments->tauPx, "Screen-space error tolerance in pixels")
+      ->check(numberIn(rules::kTauPx))
+      ->capture_default_str();
   command->add_option("--size", arguments->size, "Viewport WxH")->capture_default_str();
-  command->add_option("--fov", arguments->fovDeg, "Vertical field of view in degrees")->capture_default_str();
+  command->add_option("--fov", arguments->fovDeg, "Vertical field of view in degrees")
+      ->check(numberIn(rules::kFovDeg))
+      ->capture_default_str();
   command->add_option("--render", arguments->render, "none or gl (draw every frame with OSMesa and time it)")
       ->capture_default_str();
   command
       ->add_option("--measure-every", arguments->measureEvery,
                    "Frames between error and watertightness checks (0: never)")
+      ->check(numberIn(rules::kMeasureEvery))
       ->capture_default_str();
   command->add_flag("--compare-cache", arguments->compareCache, "Fly the path again without the LOD cache and compare");
   command->add_flag("--count-cracks", arguments->countCracks,
@@ -429,14 +431,22 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
                     "Frames back to back, not at 60 per second: background loads then lag further behind");
   command->add_option("--mode", arguments->mode, "error (tau) or budget (triangle budget)")->capture_default_str();
   command->add_option("--budget", arguments->budget, "Triangles per frame in budget mode, dikes included")
+      ->check(numberIn(rules::kBudgetTriangles))
       ->capture_default_str();
   command->add_option("--alpha", arguments->alpha, "Attenuation exponent of the budget allocator")
+      ->check(numberIn(rules::kAlpha))
       ->capture_default_str();
-  command->add_option("--altitude", arguments->altitudeM, "Metres above the ground")->capture_default_str();
-  command->add_option("--speed", arguments->speedMps, "Metres per second")->capture_default_str();
+  command->add_option("--altitude", arguments->altitudeM, "Metres above the ground")
+      ->check(numberIn(rules::kAltitudeM))
+      ->capture_default_str();
+  command->add_option("--speed", arguments->speedMps, "Metres per second")
+      ->check(numberIn(rules::kSpeedMps))
+      ->capture_default_str();
   command->add_option("--block", arguments->blockSamples, "Block size in samples: 17, 33, 65 or 129")
       ->capture_default_str();
-  command->add_option("--cache-mb", arguments->cacheMb, "LOD cache budget in MiB")->capture_default_str();
+  command->add_option("--cache-mb", arguments->cacheMb, "LOD cache budget in MiB")
+      ->check(numberIn(rules::kCacheMb))
+      ->capture_default_str();
   command->add_option("--json", arguments->json, "Write the report here");
   command->add_option("--scene", arguments->scene,
                       "Run a scene file (terrain and mesh objects, docs/scene_format.md) instead of a DEM flight");

@@ -18,6 +18,7 @@
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "number_rules.hpp"
 #include "terrain_drawing.hpp"
 
 namespace polder::cli {
@@ -105,10 +106,11 @@ Result<Flight> prepareFlight(const FlyoverArguments& arguments) {
   if (!scene) return scene.error();
   const query::QueryScene& surface = **scene;
   auto ground = [&surface](double x, double y) { return surface.height(x, y).value_or(0.0); };
-  CameraPath path = makeFlyoverLoop(dem->field.extentX(), dem->field.extentY(), ground, arguments.flight);
+  auto path = makeFlyoverLoop(dem->field.extentX(), dem->field.extentY(), ground, arguments.flight);
+  if (!path) return makeError(path.error().kind, arguments.dem.path + ": " + path.error().message);
   const TerrainStyle style = defaultTerrainStyle(dem->field);
   return Flight{std::make_shared<const terrain::Heightfield>(std::move(dem->field)), std::move(dem->info),
-                std::move(*scene), std::move(path), style};
+                std::move(*scene), std::move(*path), style};
 }
 
 int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
@@ -273,17 +275,27 @@ void addFlyoverCommand(CLI::App& app, int& exitCode) {
   CLI::App* command = app.add_subcommand("flyover", "Fly over a DEM in a window, or render the flight to PNG frames");
   addDemArguments(*command, arguments->dem);
   command->add_flag("--headless", arguments->headless, "Render frames with OSMesa instead of opening a window");
-  command->add_option("--frames", arguments->frames, "Frames to render headless")->capture_default_str();
-  command->add_option("--fps", arguments->fps, "Frames per second of flight time (default: spread over one loop)");
+  command->add_option("--frames", arguments->frames, "Frames to render headless")
+      ->check(numberIn(rules::kFrames))
+      ->capture_default_str();
+  command->add_option("--fps", arguments->fps, "Frames per second of flight time (default: spread over one loop)")
+      ->check(numberIn(rules::kFps));
   command->add_option("--out", arguments->out, "Folder for the PNG frames")->capture_default_str();
   command->add_option("--size", arguments->size, "Image or window size WxH")->capture_default_str();
-  command->add_option("--fov", arguments->fovDeg, "Vertical field of view in degrees")->capture_default_str();
+  command->add_option("--fov", arguments->fovDeg, "Vertical field of view in degrees")
+      ->check(numberIn(rules::kFovDeg))
+      ->capture_default_str();
   command->add_option("--tau", arguments->tauPx, "Screen-space error tolerance of the LOD mesh, pixels")
+      ->check(numberIn(rules::kTauPx))
       ->capture_default_str();
   command->add_flag("--full-res", arguments->fullResolution, "Draw every sample instead of the LOD mesh");
   command->add_option("--debug", arguments->debug, "Colouring: lod (blocks by quadtree level), dikes, wire");
-  command->add_option("--altitude", arguments->flight.altitudeM, "Metres above the ground")->capture_default_str();
-  command->add_option("--speed", arguments->flight.speedMps, "Metres per second")->capture_default_str();
+  command->add_option("--altitude", arguments->flight.altitudeM, "Metres above the ground")
+      ->check(numberIn(rules::kAltitudeM))
+      ->capture_default_str();
+  command->add_option("--speed", arguments->flight.speedMps, "Metres per second")
+      ->check(numberIn(rules::kSpeedMps))
+      ->capture_default_str();
   command->callback([arguments, &exitCode] { exitCode = runFlyover(*arguments); });
 }
 

@@ -14,12 +14,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include <polder/file_contents.hpp>
 #include <polder/mesh_io/mesh_file.hpp>
 #include <polder/terrain/uniform_mesh.hpp>
 #include <polder/terrain/watertight.hpp>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "number_rules.hpp"
 
 namespace polder::cli {
 namespace {
@@ -152,7 +154,7 @@ int runMesh(const MeshArguments& arguments) {
         {"total_s", totalSeconds},
         {"out", arguments.out},
     };
-    if (Status written = mesh_io::writeFileReplacing(arguments.json, report.dump(2) + "\n"); !written)
+    if (Status written = core::writeFileContents(arguments.json, report.dump(2) + "\n"); !written)
       return reportError(written.error());
   }
   // A mesh over the bound or with a crack would be a bug: say so in the exit code.
@@ -167,6 +169,7 @@ void addMeshCommand(CLI::App& app, int& exitCode) {
       "mesh", "Write the DEM as one watertight mesh within a vertical error everywhere (for baking)");
   addDemArguments(*command, arguments->dem);
   command->add_option("--max-error", arguments->maxError, "Largest vertical error against the DEM's surface, metres")
+      ->check(numberIn(rules::kMaxErrorM))
       ->required()
       ->type_name("METRES");
   command->add_option("--block", arguments->blockSamples, "Block size in samples: 17, 33, 65 or 129")

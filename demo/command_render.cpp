@@ -12,6 +12,7 @@
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "number_rules.hpp"
 #include "terrain_drawing.hpp"
 
 namespace polder::cli {
@@ -105,12 +106,15 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   addDemArguments(*command, arguments->dem);
   command->add_option("--camera", arguments->camera, "X,Y,Z,YAW,PITCH: metres and degrees (yaw clockwise from north)")
       ->required();
-  command->add_option("--fov", arguments->fovDeg, "Vertical field of view in degrees")->capture_default_str();
+  command->add_option("--fov", arguments->fovDeg, "Vertical field of view in degrees")
+      ->check(numberIn(rules::kFovDeg))
+      ->capture_default_str();
   command->add_option("--size", arguments->size, "Image size WxH")->capture_default_str();
   command->add_option("--out", arguments->out, "Output PNG")->required();
   command->add_flag("--reference", arguments->reference, "Ray cast with Embree instead of rasterising with OpenGL");
   command->add_flag("--wire", arguments->wireframe, "Overlay triangle edges");
-  command->add_option("--tau", arguments->tauPx, "Draw the LOD mesh within this screen-space error (pixels)");
+  command->add_option("--tau", arguments->tauPx, "Draw the LOD mesh within this screen-space error (pixels)")
+      ->check(numberIn(rules::kTauPx));
   command->add_option("--debug", arguments->debug, "Colouring: lod (blocks by quadtree level), dikes, wire");
   command->callback([arguments, &exitCode] { exitCode = runRender(*arguments); });
 }

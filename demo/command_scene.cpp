@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -11,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <polder/file_contents.hpp>
 #include <polder/terrain/image_writer.hpp>
 #if POLDER_HAVE_GLFW
 #include <polder/platform/glfw_window.hpp>
@@ -19,6 +19,7 @@
 #include "bench_report.hpp"
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "number_rules.hpp"
 #include "scene_file.hpp"
 #include "terrain_drawing.hpp"
 
@@ -246,9 +247,8 @@ int benchScene(const std::string& sceneFile, std::optional<int> frames, const st
       {"memory", {{"peak_rss_mb", peakRssMb()}}},
   };
   if (!jsonPath.empty()) {
-    std::ofstream out(jsonPath);
-    out << report.dump(2) << "\n";
-    if (!out) return reportError(makeError(ErrorKind::Io, jsonPath + ": cannot write the report"));
+    if (Status written = core::writeFileContents(jsonPath, report.dump(2) + "\n"); !written)
+      return reportError(written.error());
     std::printf("%-30s %s\n", "report", jsonPath.c_str());
   }
   const bool budgetHeld = options.mode != LodMode::TriangleBudget || run->framesWithinBudget == frameCount;
@@ -260,9 +260,12 @@ void addSceneCommand(CLI::App& app, int& exitCode) {
   CLI::App* command =
       app.add_subcommand("scene", "Run a scene file (terrain, mesh objects, animation) and render its frames");
   command->add_option("scene", arguments->file, "Scene file (JSON, see docs/scene_format.md)")->required();
-  command->add_option("--frames", arguments->frames, "Frames to run (default: the scene's)");
+  command->add_option("--frames", arguments->frames, "Frames to run (default: the scene's)")
+      ->check(numberIn(rules::kFrames));
   command->add_option("--out", arguments->out, "Render frames headless (OSMesa) into this folder as PNG");
-  command->add_option("--every", arguments->every, "Render every Nth frame")->capture_default_str();
+  command->add_option("--every", arguments->every, "Render every Nth frame")
+      ->check(numberIn(rules::kEvery))
+      ->capture_default_str();
   command->add_flag("--window", arguments->window, "Show the scene in a window in real time (Escape quits)");
   command->callback([arguments, &exitCode] { exitCode = runSceneCommand(*arguments); });
 }

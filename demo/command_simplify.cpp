@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -13,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <polder/file_contents.hpp>
 #include <polder/mesh/cluster_builder.hpp>
 #include <polder/mesh/collapse_builder.hpp>
 #include <polder/mesh/level_selection.hpp>
@@ -25,6 +25,7 @@
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "number_rules.hpp"
 
 namespace polder::cli {
 namespace {
@@ -176,9 +177,8 @@ int runSimplify(const SimplifyArguments& arguments) {
         {"rms", deviation->rms},
     };
     if (original->hasColours()) report["colour_error"] = deviation->colourRms;
-    std::ofstream out(arguments.json);
-    out << report.dump(2) << "\n";
-    if (!out) return reportError(makeError(ErrorKind::Io, arguments.json + ": cannot write the report"));
+    if (Status written = core::writeFileContents(arguments.json, report.dump(2) + "\n"); !written)
+      return reportError(written.error());
   }
   return subset ? 0 : kExitData;
 }
@@ -189,12 +189,15 @@ void addSimplifyCommand(CLI::App& app, int& exitCode) {
   auto arguments = std::make_shared<SimplifyArguments>();
   CLI::App* command = app.add_subcommand("simplify", "Build a progressive mesh and write it at N triangles");
   command->add_option("mesh", arguments->input, "OBJ or PLY mesh")->required();
-  command->add_option("--triangles", arguments->triangles, "Triangles to keep")->required();
+  command->add_option("--triangles", arguments->triangles, "Triangles to keep")
+      ->check(numberIn(rules::kTriangles))
+      ->required();
   command
       ->add_option("--builder", arguments->builder,
                    "collapse (quadric half-edge collapses) or cluster (floating-cell clustering)")
       ->check(CLI::IsMember({"collapse", "cluster"}));
   command->add_option("--regions", arguments->regions, "Split the mesh into about this many regions")
+      ->check(numberIn(rules::kRegions))
       ->check(CLI::Range(1u, 100000u));
   command->add_option("--out", arguments->out, "Output mesh (.obj or .ply)")->required();
   command->add_option("--json", arguments->json, "Write a JSON report here");
@@ -204,6 +207,7 @@ void addSimplifyCommand(CLI::App& app, int& exitCode) {
                     "Weld vertices split only by texture coordinates (seams then simplify freely, the texture smears "
                     "along them)");
   command->add_option("--samples", arguments->samples, "Surface samples per mesh for the distances")
+      ->check(numberIn(rules::kSamples))
       ->check(CLI::Range(std::size_t(1000), std::size_t(100000000)));
   command->callback([arguments, &exitCode] { exitCode = runSimplify(*arguments); });
 }

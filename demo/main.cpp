@@ -1,5 +1,7 @@
 // polder — the terrain engine's command-line program.
 #include <cstdio>
+#include <exception>
+#include <new>
 
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -36,8 +38,16 @@ int main(int argc, char** argv) {
   } catch (const CLI::Success& success) {
     return app.exit(success);
   } catch (const CLI::ParseError& error) {
-    app.exit(error);
+    if (error.get_exit_code() == 0) return app.exit(error);
+    std::fprintf(stderr, "polder: error: %s (see polder --help)\n", error.what());
     return polder::cli::kExitUsage;
+  } catch (const std::bad_alloc&) {
+    // Allocations sized from input are checked before they are made; this is the last guard.
+    std::fprintf(stderr, "polder: error: out of memory\n");
+    return polder::cli::kExitData;
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "polder: error: internal error: %s\n", error.what());
+    return polder::cli::kExitData;
   }
   return exitCode;
 }

@@ -1,13 +1,15 @@
 #include "scene_file.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <optional>
 
 #include <nlohmann/json.hpp>
 
+#include <polder/file_contents.hpp>
+
 #include "cli_support.hpp"
+#include "number_rules.hpp"
 
 namespace polder::cli {
 namespace {
@@ -27,6 +29,18 @@ struct SceneReader {
     return p.is_absolute() ? p : folder / p;
   }
 };
+
+// value[key] under the rule the command line applies to the same quantity; `fallback` when
+// the key is absent.
+Result<double> numberOf(const SceneReader& reader, const json& value, const char* key, double fallback,
+                        const NumberRule& rule, const std::string& where) {
+  const std::string at = where.empty() ? std::string(key) : where + "." + key;
+  if (!value.is_object() || !value.contains(key)) return fallback;
+  if (!value[key].is_number()) return reader.error(at, "must be " + describe(rule));
+  auto checked = checkNumber(value[key].get<double>(), rule, "");
+  if (!checked) return reader.error(at, "must be " + describe(rule));
+  return *checked;
+}
 
 Result<glm::dvec3> vec3Of(const SceneReader& reader, const json& value, const std::string& where) {
   if (value.is_number()) {
@@ -139,18 +153,20 @@ Result<scene::DemDescription> demOf(const SceneReader& reader, const json& value
   scene::DemDescription dem;
   dem.file = reader.resolve(value["dem"]);
   if (value.contains("spacing")) {
-    const double spacing = value["spacing"].get<double>();
-    if (!(spacing > 0.0) || !std::isfinite(spacing))
-      return reader.error(where + ".spacing", "must be a positive number of metres");
-    dem.options.spacingM = spacing;
+    auto spacing = numberOf(reader, value, "spacing", 1.0, rules::kSpacingM, where);
+    if (!spacing) return spacing.error();
+    dem.options.spacingM = *spacing;
   }
-  dem.options.zScale = value.value("z_scale", 1.0);
-  if (!(dem.options.zScale != 0.0) || !std::isfinite(dem.options.zScale))
-    return reader.error(where + ".z_scale", "must be a finite, non-zero number");
+  auto zScale = numberOf(reader, value, "z_scale", 1.0, rules::kZScale, where);
+  if (!zScale) return zScale.error();
+  if (*zScale == 0.0) return reader.error(where + ".z_scale", "must not be 0");
+  dem.options.zScale = *zScale;
   if (value.contains("crop")) {
     const json& crop = value["crop"];
-    if (!crop.is_array() || crop.size() != 2 || !crop[0].is_number_integer() || !crop[1].is_number_integer())
-      return reader.error(where + ".crop", "expected [width, height] in samples");
+    constexpr NumberRule kCropSamples{2.0, 2147483647.0, true, false, "samples"};
+    if (!crop.is_array() || crop.size() != 2 || !crop[0].is_number() || !crop[1].is_number() ||
+        !checkNumber(crop[0].get<double>(), kCropSamples, "") || !checkNumber(crop[1].get<double>(), kCropSamples, ""))
+      return reader.error(where + ".crop", "expected [width, height], each " + describe(kCropSamples));
     dem.cropSamples = glm::ivec2(crop[0].get<int>(), crop[1].get<int>());
   }
   return dem;
@@ -176,16 +192,20 @@ Result<scene::ModelDescription> modelOf(const SceneReader& reader, const std::st
   }
   if (value.contains("regions")) {
     const json& regions = value["regions"];
-    if (regions.is_number_integer() && regions.get<int>() >= 1 && regions.get<int>() <= 100000) {
+    constexpr NumberRule kGridCells{1.0, 1000.0, true, false, ""};
+    const auto within = [](const json& n, const NumberRule& rule) {
+      return n.is_number() && bool(checkNumber(n.get<double>(), rule, ""));
+    };
+    if (within(regions, rules::kRegions)) {
       model.regions.kind = scene::RegionsDescription::Kind::Automatic;
       model.regions.count = regions.get<std::uint32_t>();
-    } else if (regions.is_array() && regions.size() == 2 && regions[0].is_number_integer() &&
-               regions[1].is_number_integer() && regions[0].get<int>() >= 1 && regions[1].get<int>() >= 1) {
+    } else if (regions.is_array() && regions.size() == 2 && within(regions[0], kGridCells) &&
+               within(regions[1], kGridCells)) {
       model.regions.kind = scene::RegionsDescription::Kind::Grid;
       model.regions.gridX = regions[0].get<std::uint32_t>();
       model.regions.gridY = regions[1].get<std::uint32_t>();
     } else {
-      return reader.error(where + ".regions", "expected a count (1..100000) or a grid [nx, ny]");
+      return reader.error(where + ".regions", "expected a count (1..100000) or a grid [nx, ny] of 1..1000 each");
     }
   }
   const std::string builder = value.value("builder", std::string("collapse"));
@@ -220,13 +240,19 @@ Result<scene::NodeDescription> nodeOf(const SceneReader& reader, const json& val
   node.tintRegions = value.value("tint_regions", false);
   // "repeat": copies of an orbiting node, each a little further out and phase-shifted.
   const json repeat = value.value("repeat", json::object());
-  node.repeat.count = repeat.value("count", 1);
-  if (node.repeat.count < 1 || node.repeat.count > 100000)
-    return reader.error(where + ".repeat.count", "must be 1..100000");
-  node.repeat.phaseStepDeg = repeat.value("phase_step_deg", 0.0);
-  node.repeat.radiusStep = repeat.value("radius_step", 0.0);
-  node.repeat.periodStepS = repeat.value("period_step_s", 0.0);
-  node.repeat.heightStep = repeat.value("height_step", 0.0);
+  constexpr NumberRule kStep{-1e7, 1e7, false, false, ""};
+  auto count = numberOf(reader, repeat, "count", 1.0, rules::kRepeat, where + ".repeat");
+  auto phase = numberOf(reader, repeat, "phase_step_deg", 0.0, kStep, where + ".repeat");
+  auto radius = numberOf(reader, repeat, "radius_step", 0.0, kStep, where + ".repeat");
+  auto period = numberOf(reader, repeat, "period_step_s", 0.0, kStep, where + ".repeat");
+  auto height = numberOf(reader, repeat, "height_step", 0.0, kStep, where + ".repeat");
+  for (const auto* step : {&count, &phase, &radius, &period, &height})
+    if (!*step) return step->error();
+  node.repeat.count = int(*count);
+  node.repeat.phaseStepDeg = *phase;
+  node.repeat.radiusStep = *radius;
+  node.repeat.periodStepS = *period;
+  node.repeat.heightStep = *height;
   return node;
 }
 
@@ -236,10 +262,14 @@ Result<scene::SceneOptions> lodOf(const SceneReader& reader, const json& root) {
   const std::string mode = lod.value("mode", std::string("budget"));
   if (mode != "budget" && mode != "error") return reader.error("lod.mode", "budget or error");
   options.mode = mode == "budget" ? LodMode::TriangleBudget : LodMode::PixelError;
-  options.budgetTriangles = lod.value("budget", std::uint64_t(200000));
-  options.tauPx = lod.value("tau", 1.0);
-  options.alpha = lod.value("alpha", 3.0);
-  if (options.budgetTriangles == 0) return reader.error("lod.budget", "must be at least 1");
+  auto budget = numberOf(reader, lod, "budget", 200000.0, rules::kBudgetTriangles, "lod");
+  auto tau = numberOf(reader, lod, "tau", 1.0, rules::kTauPx, "lod");
+  auto alpha = numberOf(reader, lod, "alpha", 3.0, rules::kAlpha, "lod");
+  for (const auto* number : {&budget, &tau, &alpha})
+    if (!*number) return number->error();
+  options.budgetTriangles = std::uint64_t(*budget);
+  options.tauPx = *tau;
+  options.alpha = *alpha;
   return options;
 }
 
@@ -251,11 +281,18 @@ Status cameraOf(const SceneReader& reader, const json& root, scene::SceneDescrip
   Camera& lens = description.lens;
   lens.widthPx = size->first;
   lens.heightPx = size->second;
-  lens.fovYDeg = camera.value("fov", 60.0);
-  if (!(lens.fovYDeg > 1.0 && lens.fovYDeg < 179.0)) return reader.error("camera.fov", "must lie in 1..179");
+  auto fov = numberOf(reader, camera, "fov", 60.0, rules::kFovDeg, "camera");
+  if (!fov) return fov.error();
+  lens.fovYDeg = *fov;
   if (camera.contains("pose")) {
     const json& pose = camera["pose"];
-    if (!pose.is_array() || pose.size() != 5) return reader.error("camera.pose", "expected [x, y, z, yaw, pitch]");
+    const auto finite = [](const json& n) {
+      return n.is_number() && bool(checkNumber(n.get<double>(), rules::kCoordinateM, ""));
+    };
+    if (!pose.is_array() || pose.size() != 5 || !std::all_of(pose.begin(), pose.end(), finite))
+      return reader.error("camera.pose", "expected [x, y, z, yaw, pitch], each " + describe(rules::kCoordinateM));
+    if (!checkNumber(pose[4].get<double>(), rules::kPitchDeg, ""))
+      return reader.error("camera.pose", "the pitch must be " + describe(rules::kPitchDeg));
     lens.position = {pose[0].get<double>(), pose[1].get<double>(), pose[2].get<double>()};
     lens.yawDeg = pose[3].get<double>();
     lens.pitchDeg = pose[4].get<double>();
@@ -269,8 +306,12 @@ Status cameraOf(const SceneReader& reader, const json& root, scene::SceneDescrip
                                   : Kind::File;
   if (path.kind == Kind::File) path.file = reader.resolve(name);
   if (path.kind == Kind::Flyover || path.kind == Kind::Orbit) {
-    path.altitudeM = camera.value("altitude", 300.0);
-    path.speedMps = camera.value("speed", 150.0);
+    auto altitude = numberOf(reader, camera, "altitude", 300.0, rules::kAltitudeM, "camera");
+    auto speed = numberOf(reader, camera, "speed", 150.0, rules::kSpeedMps, "camera");
+    if (!altitude) return altitude.error();
+    if (!speed) return speed.error();
+    path.altitudeM = *altitude;
+    path.speedMps = *speed;
   }
   return {};
 }
@@ -280,11 +321,15 @@ Result<scene::SceneDescription> describe(const SceneReader& reader, const json& 
   if (root.contains("terrain")) {
     auto dem = demOf(reader, root["terrain"], "terrain");
     if (!dem) return dem.error();
-    const int block = root["terrain"].value("block", 33);
-    description.terrain = scene::TerrainDescription{std::move(*dem), block == 17    ? 4
-                                                                     : block == 65  ? 6
-                                                                     : block == 129 ? 7
-                                                                                    : 5};
+    const json block = root["terrain"].value("block", json(33));
+    const int k = !block.is_number_integer() ? 0
+                  : block == 17              ? 4
+                  : block == 33              ? 5
+                  : block == 65              ? 6
+                  : block == 129             ? 7
+                                             : 0;
+    if (k == 0) return reader.error("terrain.block", "must be 17, 33, 65 or 129 samples");
+    description.terrain = scene::TerrainDescription{std::move(*dem), k};
   }
   if (root.contains("models")) {
     if (!root["models"].is_object()) return reader.error("models", "expected an object of named models");
@@ -305,21 +350,25 @@ Result<scene::SceneDescription> describe(const SceneReader& reader, const json& 
   auto lod = lodOf(reader, root);
   if (!lod) return lod.error();
   description.lod = *lod;
-  description.frames = root.value("frames", 300);
-  if (description.frames < 1) return reader.error("frames", "must be at least 1");
+  auto frames = numberOf(reader, root, "frames", 300.0, rules::kFrames, "");
+  if (!frames) return frames.error();
+  description.frames = int(*frames);
   if (Status camera = cameraOf(reader, root, description); !camera) return camera.error();
   return description;
 }
 
 }  // namespace
 
+// A scene file describes, it does not hold data: far more than any hand-written scene.
+constexpr std::uint64_t kMaxSceneFileBytes = 16 << 20;
+
 Result<scene::SceneDescription> readSceneFile(const std::filesystem::path& file) {
   SceneReader reader{file, file.parent_path()};
-  std::ifstream in(file);
-  if (!in) return makeError(ErrorKind::Io, file.string() + ": cannot open the scene file");
+  auto text = core::readFileContents(file, kMaxSceneFileBytes);
+  if (!text) return makeError(text.error().kind, file.string() + ": " + text.error().message);
   json root;
   try {
-    root = json::parse(in);
+    root = json::parse(*text);
   } catch (const json::exception& e) {
     return makeError(ErrorKind::InvalidData, file.string() + ": not valid JSON (" + e.what() + ")");
   }

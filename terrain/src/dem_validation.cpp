@@ -42,10 +42,17 @@ std::uint64_t physicalMemoryBytes() {
   return pages > 0 && pageSize > 0 ? std::uint64_t(pages) * std::uint64_t(pageSize) : 0;
 }
 
+Status checkSpansGround(std::uint64_t width, std::uint64_t height) {
+  if (width < 2 || height < 2)
+    return makeError(ErrorKind::InvalidData, "a DEM needs at least 2 x 2 samples, this one has " +
+                                                 std::to_string(width) + " x " + std::to_string(height));
+  return {};
+}
+
 Status checkRasterSize(std::uint64_t width, std::uint64_t height, std::uint64_t bytesPerSample,
                        std::uint64_t memoryLimitBytes) {
+  if (Status spans = checkSpansGround(width, height); !spans) return spans;
   const std::string size = std::to_string(width) + " x " + std::to_string(height) + " samples";
-  if (width == 0 || height == 0) return makeError(ErrorKind::InvalidData, "the raster has no samples (" + size + ")");
   // Both come from 32-bit fields at most, so the product does not overflow.
   const std::uint64_t samples = width * height;
   if (width > std::uint64_t(kMaxDemSamples) || height > std::uint64_t(kMaxDemSamples) || samples > kMaxDemSamples)
@@ -63,9 +70,8 @@ Status checkRasterSize(std::uint64_t width, std::uint64_t height, std::uint64_t 
 
 Result<Dem> finishDem(Heightfield field, DemInfo info, const DemOptions& options,
                       std::optional<GroundSpacing> fileSpacing) {
-  if (field.sampleCount() == 0)
-    return makeError(ErrorKind::InvalidData, "the raster has no samples (" + std::to_string(field.width) + " x " +
-                                                 std::to_string(field.height) + ")");
+  if (Status size = checkRasterSize(std::uint64_t(field.width), std::uint64_t(field.height), 0, 0); !size)
+    return size.error();
   info.spacingAssumed = false;
   if (options.spacingM) {
     field.spacingX = field.spacingY = *options.spacingM;

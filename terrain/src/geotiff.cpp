@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 namespace polder::terrain {
@@ -50,6 +51,12 @@ Result<double> linearUnitMetres(std::optional<std::uint16_t> code) {
   return makeError(ErrorKind::Unsupported, "GeoTIFF linear unit " + std::to_string(*code) + " is not supported");
 }
 
+std::string formatNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
 }  // namespace
 
 std::optional<std::uint16_t> geoKeyValue(const std::vector<std::uint16_t>& geoKeys, std::uint16_t key) {
@@ -73,6 +80,7 @@ Result<std::optional<GroundSpacing>> geoTiffSpacing(const GeoTiffTags& tags, int
   // Model y (northing or latitude) of the centre; without a tiepoint it is unknown and the
   // equator is taken.
   double centreY = 0.0;
+  const bool scaled = tags.pixelScale.size() >= 2 || tags.transformation.size() >= 16;
   if (tags.pixelScale.size() >= 2) {
     sx = std::abs(tags.pixelScale[0]);
     sy = std::abs(tags.pixelScale[1]);
@@ -83,7 +91,10 @@ Result<std::optional<GroundSpacing>> geoTiffSpacing(const GeoTiffTags& tags, int
     sy = std::hypot(m[1], m[5]);
     centreY = m[4] * centreI + m[5] * centreJ + m[7];
   }
-  if (!(sx > 0.0 && sy > 0.0 && std::isfinite(sx) && std::isfinite(sy))) return std::optional<GroundSpacing>();
+  if (!scaled) return std::optional<GroundSpacing>();
+  if (!(sx > 0.0 && sy > 0.0 && std::isfinite(sx) && std::isfinite(sy)))
+    return makeError(ErrorKind::InvalidData, "the GeoTIFF pixel size " + formatNumber(sx) + " x " + formatNumber(sy) +
+                                                 " is not positive and finite (give --spacing to override it)");
   if (!std::isfinite(centreY)) centreY = 0.0;
 
   std::optional<std::uint16_t> modelType = geoKeyValue(tags.geoKeys, kGTModelTypeGeoKey);

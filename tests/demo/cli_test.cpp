@@ -1,7 +1,5 @@
 // Runs the real polder program: what a user sees, exit codes included.
-#include <sys/wait.h>
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -22,28 +20,11 @@
 #include <polder/terrain/dem_reader.hpp>
 #include <polder/terrain/image_writer.hpp>
 
+#include "polder_run.hpp"
 #include "test_support.hpp"
 
 namespace polder::test {
 namespace {
-
-struct ProgramRun {
-  int exitCode = -1;
-  std::string output;  // stdout and stderr together
-};
-
-ProgramRun runPolder(const std::string& arguments) {
-  const std::string command = std::string(POLDER_EXECUTABLE) + " " + arguments + " 2>&1";
-  ProgramRun run;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (!pipe) return run;
-  std::array<char, 4096> buffer;
-  std::size_t read = 0;
-  while ((read = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), read);
-  const int status = ::pclose(pipe);
-  run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  return run;
-}
 
 // A small generated DEM shared by the tests of this file.
 class PolderProgram : public ::testing::Test {

@@ -1,4 +1,4 @@
-// readMesh on the real meshes in ../shared/data (skipped when it is absent).
+// readMesh on the real meshes of the shared data folder (skipped when it is absent).
 #include <gtest/gtest.h>
 
 #include <algorithm>

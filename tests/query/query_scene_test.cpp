@@ -189,6 +189,29 @@ TEST(QueryScene, RaycastMissesAndDistances) {
   EXPECT_FALSE(scene->raycast(QueryRay{{5.0, 5.0, 10.0}, {0.0, 0.0, -1.0}, 10.5, 20.0}));
 }
 
+// Points far beyond any terrain, where single precision overflows Embree's ray checks, see
+// nothing: no hit, no line of sight, in single rays and packets alike.
+TEST(QueryScene, RaysFromFarBeyondTheTerrainSeeNothing) {
+  const auto field = makeField(11, 11, 1.0, 1.0, [](double, double) { return 0.0; });
+  const auto scene = build(field);
+  ASSERT_TRUE(scene);
+  std::vector<QueryRay> rays;
+  for (const double far : {1e16, 1e18, -2e18, 1e30, -1e300}) {
+    EXPECT_FALSE(scene->raycast({5.0, 5.0, far}, {0.0, 0.0, far > 0 ? -1.0 : 1.0})) << far;
+    EXPECT_FALSE(scene->raycast({far, 5.0, 1.0}, {-1.0, 0.0, 0.0})) << far;
+    EXPECT_FALSE(scene->lineOfSight({5.0, 5.0, far}, {5.0, 5.0, 1.0})) << far;
+    rays.push_back(QueryRay{{5.0, 5.0, far}, {0.0, 0.0, -1.0}, 0.0, 1e300});
+    rays.push_back(QueryRay{{5.0, 5.0, 10.0}, {0.0, 0.0, -1.0}, 0.0, 1e300});  // a near ray in the same packet
+  }
+  // Huge but finite segments from a near origin are fine, and still hit.
+  const auto longRay = scene->raycast(QueryRay{{5.0, 5.0, 10.0}, {0.0, 0.0, -1e30}, 0.0, 1e300});
+  ASSERT_TRUE(longRay);
+  EXPECT_NEAR(longRay->distance, 10.0, 1e-9);
+  std::vector<std::optional<RayHit>> hits(rays.size());
+  scene->raycastMany(rays, hits);
+  for (std::size_t i = 0; i < rays.size(); ++i) EXPECT_EQ(hits[i].has_value(), i % 2 == 1) << i;
+}
+
 TEST(QueryScene, LineOfSightOverRidgeAndValley) {
   // A ridge 40 m high along x = 50.
   const auto ridge =

@@ -195,8 +195,11 @@ TEST(BuildScene, ErrorsNameThePartOfTheDescription) {
   SceneDescription noPath = description;
   noPath.cameraPath.kind = CameraPathDescription::Kind::File;
   noPath.cameraPath.file = dir.file("absent.txt");
-  EXPECT_NE(failure(noPath).find("camera.path: cannot open '" + dir.file("absent.txt").string() + "'"),
-            std::string::npos);
+  EXPECT_NE(failure(noPath).find("camera.path: " + dir.file("absent.txt").string() + ": the file does not exist"),
+            std::string::npos)
+      << failure(noPath);
+  noPath.cameraPath.file = dir.path();
+  EXPECT_NE(failure(noPath).find("is a directory"), std::string::npos) << failure(noPath);
 
   SceneDescription missingMesh = description;
   missingMesh.models[0].shape = MeshFileDescription{dir.file("missing.obj"), {}};

@@ -10,8 +10,8 @@
 
 namespace polder::test {
 
-// The folder with the real DEMs, meshes and models (../shared/data beside the checkout,
-// or $POLDER_DATA_DIR), if it exists.
+// The folder with the real DEMs, meshes and models (the shared data folder beside the
+// checkout, or $POLDER_DATA_DIR), if it exists.
 std::optional<std::filesystem::path> sharedDataDir();
 
 // The path of a file in the shared data folder, or nullopt when the folder or file is absent.
@@ -40,8 +40,9 @@ void writeFile(const std::filesystem::path& path, const std::string& bytes);
 }  // namespace polder::test
 
 // Skips the current test with a message naming the missing shared file.
-#define POLDER_REQUIRE_SHARED_FILE(var, relative)                                                                    \
-  const auto var##_optional = ::polder::test::sharedDataFile(relative);                                              \
-  if (!var##_optional)                                                                                               \
-    GTEST_SKIP() << "shared data file " << (relative) << " is absent (../shared/data or $POLDER_DATA_DIR); skipped"; \
+#define POLDER_REQUIRE_SHARED_FILE(var, relative)                                   \
+  const auto var##_optional = ::polder::test::sharedDataFile(relative);             \
+  if (!var##_optional)                                                              \
+    GTEST_SKIP() << "shared data file " << (relative)                               \
+                 << " is absent (shared data folder or $POLDER_DATA_DIR); skipped"; \
   const std::filesystem::path var = *var##_optional

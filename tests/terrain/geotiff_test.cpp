@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include <polder/terrain/geotiff.hpp>
 
@@ -104,6 +105,24 @@ TEST(GeoTiffSpacing, ModelTransformationInsteadOfScale) {
   ASSERT_TRUE(spacing.ok() && spacing->has_value());
   EXPECT_DOUBLE_EQ((*spacing)->x, 20.0);
   EXPECT_DOUBLE_EQ((*spacing)->y, 10.0);
+}
+
+// A pixel size that is given but unusable is bad data, not "no georeferencing": 1 m in its
+// place would silently misscale the terrain.
+TEST(GeoTiffSpacing, GivenButUnusablePixelSizesAreInvalidData) {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (const std::vector<double>& scale : std::vector<std::vector<double>>{
+           {0.0, 0.0, 0.0}, {30.0, 0.0, 0.0}, {nan, 30.0, 0.0}, {30.0, inf, 0.0}, {nan, nan, nan}}) {
+    GeoTiffTags tags;
+    tags.pixelScale = scale;
+    const auto spacing = geoTiffSpacing(tags, 10, 10);
+    ASSERT_FALSE(spacing.ok()) << scale[0] << " x " << scale[1];
+    EXPECT_EQ(spacing.error().kind, ErrorKind::InvalidData);
+    EXPECT_NE(spacing.error().message.find("pixel size"), std::string::npos);
+  }
+  GeoTiffTags flat;
+  flat.transformation = {0, 0, 0, 500000, 0, 0, 0, 4000000, 0, 0, 0, 0, 0, 0, 0, 1};  // all pixels at one point
+  EXPECT_FALSE(geoTiffSpacing(flat, 10, 10).ok());
 }
 
 TEST(GeoTiffSpacing, UnknownUnitsAndModelsAreUnsupported) {

@@ -63,7 +63,7 @@ class TerrainDrawerTest : public ::testing::Test {
       const int j = std::clamp(int(y / field->spacingY), 0, field->height - 1);
       return double(field->at(i, j));
     };
-    const CameraPath path = makeFlyoverLoop(field->extentX(), field->extentY(), ground, flight);
+    const CameraPath path = makeFlyoverLoop(field->extentX(), field->extentY(), ground, flight).value();
     const TerrainStyle style = defaultTerrainStyle(*field);
     TerrainDrawer drawer(*m_renderer);
     std::size_t cracks = 0;

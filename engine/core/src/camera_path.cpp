@@ -1,4 +1,5 @@
 #include <polder/camera_path.hpp>
+#include <polder/file_contents.hpp>
 
 #include <algorithm>
 #include <charconv>
@@ -49,6 +50,10 @@ Result<CameraPath> CameraPath::fromPoses(std::vector<CameraPose> poses, bool clo
     if (!std::isfinite(p.timeS) || !std::isfinite(p.position.x) || !std::isfinite(p.position.y) ||
         !std::isfinite(p.position.z) || !std::isfinite(p.yawDeg) || !std::isfinite(p.pitchDeg))
       return makeError(ErrorKind::InvalidArgument, "camera pose " + std::to_string(i + 1) + " has a non-finite value");
+    if (std::abs(p.position.x) > kMaxPoseCoordinateM || std::abs(p.position.y) > kMaxPoseCoordinateM ||
+        std::abs(p.position.z) > kMaxPoseCoordinateM)
+      return makeError(ErrorKind::InvalidArgument,
+                       "camera pose " + std::to_string(i + 1) + " lies beyond 1e9 m of the origin");
     if (i > 0 && !(p.timeS > poses[i - 1].timeS))
       return makeError(ErrorKind::InvalidArgument,
                        "camera pose " + std::to_string(i + 1) + ": times must increase strictly");
@@ -56,6 +61,17 @@ Result<CameraPath> CameraPath::fromPoses(std::vector<CameraPose> poses, bool clo
   CameraPath path;
   path.m_poses = std::move(poses);
   path.m_closedLoop = closedLoop && path.m_poses.size() > 1;
+  return path;
+}
+
+// Millions of poses; a larger file is refused before it is read.
+constexpr std::uint64_t kMaxCameraPathFileBytes = 256 << 20;
+
+Result<CameraPath> CameraPath::readFile(const std::filesystem::path& file) {
+  auto text = core::readFileContents(file, kMaxCameraPathFileBytes);
+  if (!text) return makeError(text.error().kind, file.string() + ": " + text.error().message);
+  auto path = parse(*text);
+  if (!path) return makeError(path.error().kind, file.string() + ": " + path.error().message);
   return path;
 }
 
@@ -112,9 +128,69 @@ CameraPose CameraPath::at(double timeS) const {
   return interpolate(*(next - 1), *next, timeS);
 }
 
-CameraPath makeFlyoverLoop(double extentX, double extentY, const std::function<double(double, double)>& groundHeight,
-                           const FlyoverOptions& options) {
-  const int n = std::max(options.samples, 8);
+namespace {
+
+// The options both loops share (FlyoverOptions, OrbitOptions).
+template <typename LoopOptions>
+Status checkLoopOptions(double extentX, double extentY, const LoopOptions& options) {
+  if (!(extentX > 0.0) || !(extentY > 0.0) || !std::isfinite(extentX) || !std::isfinite(extentY))
+    return makeError(ErrorKind::InvalidArgument, "a loop needs a finite, positive terrain extent");
+  if (!(options.speedMps > 0.0) || !std::isfinite(options.speedMps))
+    return makeError(ErrorKind::InvalidArgument, "the flight speed must be a finite, positive number");
+  if (!(options.altitudeM >= 0.0) || !std::isfinite(options.altitudeM))
+    return makeError(ErrorKind::InvalidArgument, "the flight altitude must be a finite number, not negative");
+  if (!(options.radiusFraction > 0.0) || !(options.radiusFraction <= 1.0))
+    return makeError(ErrorKind::InvalidArgument, "the loop's radius must be a fraction of the extent in (0, 1]");
+  if (options.samples < 8 || options.samples > 1000000)
+    return makeError(ErrorKind::InvalidArgument, "a loop takes 8..1,000,000 poses");
+  return {};
+}
+
+// For each i, the largest of values[i - window .. i + window] around the loop, in O(n) (a
+// monotonic queue); a window of half the loop or more sees all of it.
+std::vector<double> loopWindowMax(const std::vector<double>& values, int window) {
+  const int n = int(values.size());
+  if (2 * window + 1 >= n) return std::vector<double>(values.size(), *std::max_element(values.begin(), values.end()));
+  std::vector<double> out(values.size());
+  std::vector<int> queue(std::size_t(3 * n));  // indices into the loop unrolled, values decreasing
+  std::size_t head = 0, tail = 0;
+  const auto at = [&](int i) { return values[std::size_t(((i % n) + n) % n)]; };
+  for (int i = -2 * window; i < n; ++i) {
+    const int entering = i + window;
+    while (tail > head && at(queue[tail - 1]) <= at(entering)) --tail;
+    queue[tail++] = entering;
+    while (queue[head] < i - window) ++head;
+    if (i >= 0) out[std::size_t(i)] = at(queue[head]);
+  }
+  return out;
+}
+
+// For each i, the mean of values[i - window .. i + window] around the loop, in O(n).
+std::vector<double> loopWindowMean(const std::vector<double>& values, int window) {
+  const int n = int(values.size());
+  std::vector<double> prefix(std::size_t(n) + 1, 0.0);
+  for (int i = 0; i < n; ++i) prefix[std::size_t(i) + 1] = prefix[std::size_t(i)] + values[std::size_t(i)];
+  // Sum over the unrolled range [a, b] (any integers): whole laps plus the remainders.
+  const auto sumTo = [&](long long end) {  // sum of unrolled indices [0, end)
+    const long long laps = end >= 0 ? end / n : -((-end + n - 1) / n);
+    const long long rest = end - laps * n;
+    return double(laps) * prefix[std::size_t(n)] + prefix[std::size_t(rest)];
+  };
+  std::vector<double> out(values.size());
+  for (int i = 0; i < n; ++i)
+    out[std::size_t(i)] = (sumTo(i + window + 1LL) - sumTo(i - window)) / double(2LL * window + 1);
+  return out;
+}
+
+}  // namespace
+
+Result<CameraPath> makeFlyoverLoop(double extentX, double extentY,
+                                   const std::function<double(double, double)>& groundHeight,
+                                   const FlyoverOptions& options) {
+  if (Status valid = checkLoopOptions(extentX, extentY, options); !valid) return valid.error();
+  if (!std::isfinite(options.pitchDeg) || std::abs(options.pitchDeg) > 90.0)
+    return makeError(ErrorKind::InvalidArgument, "the flight's pitch must lie in -90..90 degrees");
+  const int n = options.samples;
   const auto count = static_cast<std::size_t>(n);
   const glm::dvec2 centre{0.5 * extentX, 0.5 * extentY};
   const glm::dvec2 radius{options.radiusFraction * extentX, options.radiusFraction * extentY};
@@ -125,31 +201,24 @@ CameraPath makeFlyoverLoop(double extentX, double extentY, const std::function<d
     const double angle = 2.0 * kPi * double(i) / double(n);
     points[std::size_t(i)] = centre + glm::dvec2(radius.x * std::sin(angle), radius.y * std::cos(angle));
     ground[std::size_t(i)] = groundHeight(points[std::size_t(i)].x, points[std::size_t(i)].y);
+    if (!std::isfinite(ground[std::size_t(i)])) ground[std::size_t(i)] = 0.0;
   }
   double perimeter = 0.0;
   for (int i = 0; i < n; ++i) perimeter += glm::length(points[std::size_t((i + 1) % n)] - points[std::size_t(i)]);
   const double stepM = perimeter / double(n);
+  if (!(stepM > 0.0) || !std::isfinite(stepM))
+    return makeError(ErrorKind::InvalidArgument, "the terrain's extent is too small or too large for a loop");
 
   // Clear the highest ground within ~600 m (at least two samples) either way, then smooth
-  // the result so the flight does not bob.
-  const int window = std::max(2, int(std::ceil(600.0 / std::max(stepM, 1e-9))));
+  // the result so the flight does not bob; the mean never dips under the point's own ground.
+  const int window = int(std::clamp(std::ceil(600.0 / stepM), 2.0, double(n)));
+  const std::vector<double> clearance = loopWindowMax(ground, window);
+  std::vector<double> smoothed = loopWindowMean(clearance, window);
+  for (std::size_t i = 0; i < count; ++i) smoothed[i] = std::max(smoothed[i], ground[i]);
   auto wrap = [n](int i) { return std::size_t(((i % n) + n) % n); };
-  std::vector<double> clearance(count);
-  for (int i = 0; i < n; ++i) {
-    double highest = ground[std::size_t(i)];
-    for (int k = -window; k <= window; ++k) highest = std::max(highest, ground[wrap(i + k)]);
-    clearance[std::size_t(i)] = highest;
-  }
-  std::vector<double> smoothed(count);
-  for (int i = 0; i < n; ++i) {
-    double sum = 0.0;
-    for (int k = -window; k <= window; ++k) sum += clearance[wrap(i + k)];
-    // The mean never dips under the point's own ground: keep the max of both.
-    smoothed[std::size_t(i)] = std::max(sum / double(2 * window + 1), ground[std::size_t(i)]);
-  }
 
   std::vector<CameraPose> poses(count);
-  const double stepS = stepM / std::max(options.speedMps, 1e-6);
+  const double stepS = stepM / options.speedMps;
   for (int i = 0; i < n; ++i) {
     const glm::dvec2 ahead = points[wrap(i + 1)] - points[wrap(i - 1)];
     const double yaw = std::atan2(ahead.x, ahead.y) * 180.0 / kPi;
@@ -159,12 +228,14 @@ CameraPath makeFlyoverLoop(double extentX, double extentY, const std::function<d
                    yaw,
                    options.pitchDeg};
   }
-  return std::move(CameraPath::fromPoses(std::move(poses), true).value());
+  return CameraPath::fromPoses(std::move(poses), true);
 }
 
-CameraPath makeOrbitLoop(double extentX, double extentY, const std::function<double(double, double)>& groundHeight,
-                         const OrbitOptions& options) {
-  const int n = std::max(options.samples, 8);
+Result<CameraPath> makeOrbitLoop(double extentX, double extentY,
+                                 const std::function<double(double, double)>& groundHeight,
+                                 const OrbitOptions& options) {
+  if (Status valid = checkLoopOptions(extentX, extentY, options); !valid) return valid.error();
+  const int n = options.samples;
   const glm::dvec2 centre{0.5 * extentX, 0.5 * extentY};
   const double radius = options.radiusFraction * std::min(extentX, extentY);
   double highest = groundHeight(centre.x, centre.y);
@@ -174,7 +245,7 @@ CameraPath makeOrbitLoop(double extentX, double extentY, const std::function<dou
   }
   const double altitude = highest + options.altitudeM;
   const glm::dvec3 target{centre.x, centre.y, groundHeight(centre.x, centre.y)};
-  const double stepS = 2.0 * kPi * radius / double(n) / std::max(options.speedMps, 1e-6);
+  const double stepS = 2.0 * kPi * radius / double(n) / options.speedMps;
   std::vector<CameraPose> poses;
   poses.reserve(std::size_t(n));
   for (int i = 0; i < n; ++i) {
@@ -185,7 +256,7 @@ CameraPath makeOrbitLoop(double extentX, double extentY, const std::function<dou
     const double pitch = std::atan2(look.z, std::hypot(look.x, look.y)) * 180.0 / kPi;
     poses.push_back(CameraPose{i * stepS, position, yaw, pitch});
   }
-  return std::move(CameraPath::fromPoses(std::move(poses), true).value());
+  return CameraPath::fromPoses(std::move(poses), true);
 }
 
 }  // namespace polder

@@ -15,6 +15,8 @@ Error ioError(const std::filesystem::path& path, const std::string& what) {
   return Error{ErrorKind::Io, path.string() + ": cannot " + what + ": " + std::strerror(errno)};
 }
 
+std::string kibibytes(std::uint64_t bytes) { return std::to_string((bytes + 1023) >> 10) + " KiB"; }
+
 }  // namespace
 
 PartialFile::PartialFile(std::filesystem::path destination)
@@ -33,8 +35,8 @@ Status PartialFile::create(std::uint64_t bytesNeeded, bool preallocate) {
   if (::fstatvfs(m_fd, &disk) == 0) {
     const std::uint64_t room = std::uint64_t(disk.f_bavail) * std::uint64_t(disk.f_frsize);
     if (room < bytesNeeded)
-      return makeError(ErrorKind::Io, m_destination.string() + ": needs " + std::to_string(bytesNeeded >> 20) +
-                                          " MiB and the disk has " + std::to_string(room >> 20) + " MiB free");
+      return makeError(ErrorKind::Io, m_destination.string() + ": needs " + kibibytes(bytesNeeded) +
+                                          " and the disk has " + kibibytes(room) + " free");
   }
   if (preallocate && ::ftruncate(m_fd, off_t(bytesNeeded)) != 0) return ioError(m_destination, "size the output");
   return {};

@@ -8,31 +8,35 @@ namespace polder::mesh {
 
 namespace {
 
-// Cell index of every vertex for a grid of cellsPerAxis over b, then dense renumbering.
+// Finer than any mesh needs, coarse enough that cell indices of three axes fit 64 bits.
+constexpr std::uint32_t kMaxCellsPerAxis = 1u << 20;
+
+// Cell index of every vertex for a grid of cellsPerAxis over b, then dense renumbering in
+// cell order. Memory follows the vertices, not the cells: a grid far finer than the mesh
+// costs no more than one cell per vertex.
 RegionPartition partitionByCells(const std::vector<glm::vec3>& positions, const PositionBounds& b,
                                  const std::array<std::uint32_t, 3>& cellsPerAxis) {
   const glm::dvec3 extent = glm::max(b.hi - b.lo, glm::dvec3(1e-30));
-  std::vector<std::uint32_t> cellOf(positions.size());
-  const std::size_t cellCount = std::size_t(cellsPerAxis[0]) * cellsPerAxis[1] * cellsPerAxis[2];
-  std::vector<std::uint32_t> denseId(cellCount, ~0u);
+  std::vector<std::uint64_t> cellOf(positions.size());
   for (std::size_t i = 0; i < positions.size(); ++i) {
-    std::size_t cell = 0;
+    std::uint64_t cell = 0;
     for (int axis = 2; axis >= 0; --axis) {
       const double t = (double(positions[i][axis]) - b.lo[axis]) / extent[axis];
-      const auto n = cellsPerAxis[axis];
-      const auto c = std::min<std::uint32_t>(n - 1, static_cast<std::uint32_t>(std::max(0.0, t * n)));
+      const std::uint32_t n = std::clamp(cellsPerAxis[axis], 1u, kMaxCellsPerAxis);
+      const auto c = std::min<std::uint32_t>(n - 1, static_cast<std::uint32_t>(std::clamp(t * n, 0.0, double(n))));
       cell = cell * n + c;
     }
-    cellOf[i] = static_cast<std::uint32_t>(cell);
-    denseId[cell] = 0;
+    cellOf[i] = cell;
   }
+  std::vector<std::uint64_t> occupied = cellOf;
+  std::sort(occupied.begin(), occupied.end());
+  occupied.erase(std::unique(occupied.begin(), occupied.end()), occupied.end());
   RegionPartition partition;
-  partition.regionCount = 0;
-  for (auto& id : denseId)
-    if (id == 0) id = partition.regionCount++;
-  partition.regionCount = std::max(partition.regionCount, 1u);
+  partition.regionCount = std::max<std::uint32_t>(std::uint32_t(occupied.size()), 1u);
   partition.vertexRegion.resize(positions.size());
-  for (std::size_t i = 0; i < positions.size(); ++i) partition.vertexRegion[i] = denseId[cellOf[i]];
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    partition.vertexRegion[i] =
+        std::uint32_t(std::lower_bound(occupied.begin(), occupied.end(), cellOf[i]) - occupied.begin());
   return partition;
 }
 
@@ -52,7 +56,9 @@ RegionPartition gridPartition(const std::vector<glm::vec3>& positions, std::arra
 }
 
 RegionPartition automaticPartition(const std::vector<glm::vec3>& positions, std::uint32_t regionCount) {
-  if (regionCount <= 1 || positions.empty()) return singleRegion();
+  // No more regions than vertices can be non-empty.
+  regionCount = std::uint32_t(std::min<std::size_t>(regionCount, positions.size()));
+  if (regionCount <= 1) return singleRegion();
   const PositionBounds b = boundsOf(positions);
   const glm::dvec3 extent = glm::max(b.hi - b.lo, glm::dvec3(1e-30));
   const double longest = std::max(extent.x, std::max(extent.y, extent.z));

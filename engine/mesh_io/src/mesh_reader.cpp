@@ -8,15 +8,13 @@
 #include <assimp/Importer.hpp>
 
 #include <cassert>
-#include <cerrno>
 #include <cmath>
 #include <exception>
-#include <fstream>
 #include <limits>
 #include <new>
 #include <string>
-#include <system_error>
 
+#include <polder/file_contents.hpp>
 #include <polder/one_line.hpp>
 
 #include "mesh_format.hpp"
@@ -30,27 +28,8 @@ namespace {
 
 using detail::MeshFormat;
 
-Result<std::string> readWholeFile(const std::filesystem::path& file) {
-  std::error_code code;
-  const auto status = std::filesystem::status(file, code);
-  if (!std::filesystem::exists(status)) return makeError(ErrorKind::Io, "the file does not exist");
-  if (std::filesystem::is_directory(status)) return makeError(ErrorKind::Io, "is a directory, not a file");
-  const std::uintmax_t size = std::filesystem::file_size(file, code);
-  if (code) return makeError(ErrorKind::Io, "cannot read the file size: " + code.message());
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return makeError(ErrorKind::Io, "cannot open the file: " + std::generic_category().message(errno));
-  std::string bytes;
-  try {
-    bytes.resize(std::size_t(size));
-  } catch (const std::exception&) {
-    return makeError(ErrorKind::OutOfMemory, "not enough memory to read the file");
-  }
-  in.read(bytes.data(), std::streamsize(bytes.size()));
-  if (std::uintmax_t(in.gcount()) != size)
-    return makeError(ErrorKind::Io,
-                     "could read only " + std::to_string(in.gcount()) + " of its " + std::to_string(size) + " bytes");
-  return bytes;
-}
+// Larger than any mesh the engine draws; a bigger file is refused before it is read.
+constexpr std::uint64_t kMaxMeshFileBytes = std::uint64_t(4) << 30;
 
 // The importer gets the file from memory; every other file it asks for (an OBJ's mtllib)
 // is refused, so nothing outside the checked bytes is read. Materials are not used.
@@ -183,7 +162,7 @@ Result<mesh::TriangleMesh> readMeshUnguarded(const std::filesystem::path& file, 
   const Result<MeshFormat> format = detail::meshFormatOf(file);
   if (!format) return named(format.error());
 
-  Result<std::string> bytes = readWholeFile(file);
+  Result<std::string> bytes = core::readFileContents(file, kMaxMeshFileBytes);
   if (!bytes) return named(bytes.error());
   if (bytes->empty()) return named(makeError(ErrorKind::InvalidData, "the file is empty"));
   if (*format == MeshFormat::Ply) {

@@ -5,22 +5,17 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cerrno>
 #include <charconv>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <exception>
-#include <fstream>
-#include <functional>
 #include <limits>
 #include <new>
-#include <random>
 #include <string>
 #include <string_view>
-#include <system_error>
-#include <thread>
 #include <vector>
+
+#include <polder/file_contents.hpp>
 
 #include "float_text.hpp"
 #include "glb_writer.hpp"
@@ -132,44 +127,6 @@ std::string plyText(const TriangleMesh& mesh, bool binary) {
   return out;
 }
 
-// A name beside the target that no other writer picks.
-std::filesystem::path temporaryName(const std::filesystem::path& file) {
-  std::uint64_t salt = std::uint64_t(std::chrono::steady_clock::now().time_since_epoch().count()) ^
-                       std::uint64_t(std::hash<std::thread::id>{}(std::this_thread::get_id()));
-  try {
-    salt ^= std::uint64_t(std::random_device{}()) << 20;
-  } catch (...) {
-    // the clock and thread are unique enough without it
-  }
-  char hex[17];
-  const auto result = std::to_chars(hex, hex + 16, salt, 16);
-  std::filesystem::path temporary = file;
-  temporary += ".tmp-" + std::string(hex, result.ptr);
-  return temporary;
-}
-
-Status writeReplacing(const std::filesystem::path& file, std::string_view bytes) {
-  const std::filesystem::path temporary = temporaryName(file);
-  std::error_code ignored;
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) return makeError(ErrorKind::Io, "cannot create the file: " + std::generic_category().message(errno));
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    out.close();
-    if (!out) {
-      std::filesystem::remove(temporary, ignored);
-      return makeError(ErrorKind::Io, "cannot write the file: " + std::generic_category().message(errno));
-    }
-  }
-  std::error_code code;
-  std::filesystem::rename(temporary, file, code);
-  if (code) {
-    std::filesystem::remove(temporary, ignored);
-    return makeError(ErrorKind::Io, "cannot put the file in place: " + code.message());
-  }
-  return {};
-}
-
 template <class Vector>
 bool allFinite(const std::vector<Vector>& values) {
   for (const Vector& value : values)
@@ -203,20 +160,10 @@ Status writeMeshUnguarded(const std::filesystem::path& file, const TriangleMesh&
   } else {
     bytes = ply ? plyText(mesh, options.binary) : objText(mesh);
   }
-  return writeFileReplacing(file, bytes);
+  return core::writeFileContents(file, bytes);
 }
 
 }  // namespace
-
-Status writeFileReplacing(const std::filesystem::path& file, std::string_view bytes) {
-  try {
-    if (Status written = writeReplacing(file, bytes); !written)
-      return makeError(written.error().kind, file.string() + ": " + written.error().message);
-    return {};
-  } catch (const std::exception& exception) {
-    return makeError(ErrorKind::Io, file.string() + ": " + exception.what());
-  }
-}
 
 Status writeMesh(const std::filesystem::path& file, const TriangleMesh& mesh, const MeshWriteOptions& options) {
   // Formatting allocates; nothing may escape the API as an exception.

@@ -57,11 +57,20 @@ struct PreparedRay {
   double tMax = kInf;
 };
 
+// Embree asserts that ray origins lie within about +-1.8e18 in single precision; points
+// further out than this, far beyond any terrain, are taken as seeing nothing.
+constexpr double kMaxTraceableCoordinate = 1e15;
+
+bool isTraceable(const glm::dvec3& point) {
+  return std::abs(point.x) <= kMaxTraceableCoordinate && std::abs(point.y) <= kMaxTraceableCoordinate &&
+         std::abs(point.z) <= kMaxTraceableCoordinate;  // false for NaN too
+}
+
 std::optional<PreparedRay> prepare(const QueryRay& ray) {
   const double length = glm::length(ray.direction);
-  const bool finite = std::isfinite(ray.origin.x) && std::isfinite(ray.origin.y) && std::isfinite(ray.origin.z) &&
-                      std::isfinite(length);
-  if (!finite || length == 0.0 || !(ray.maxDistance >= std::max(ray.minDistance, 0.0))) return std::nullopt;
+  if (!isTraceable(ray.origin) || !std::isfinite(length) || length == 0.0 ||
+      !(ray.maxDistance >= std::max(ray.minDistance, 0.0)))
+    return std::nullopt;
   return PreparedRay{ray.origin, ray.direction / length, std::max(ray.minDistance, 0.0), ray.maxDistance};
 }
 
@@ -140,9 +149,10 @@ struct QueryScene::Impl {
   // The ray in the scene's float frame; RTCRay and RTCRay16 take it field by field.
   FloatRay toSceneFrame(const PreparedRay& ray) const {
     const glm::vec3 local(ray.origin - origin);
-    const float tFar =
-        ray.tMax > double(std::numeric_limits<float>::max()) ? std::numeric_limits<float>::infinity() : float(ray.tMax);
-    return FloatRay{local, glm::vec3(ray.direction), float(ray.tMin), tFar};
+    const auto toFloat = [](double t) {
+      return t > double(std::numeric_limits<float>::max()) ? std::numeric_limits<float>::infinity() : float(t);
+    };
+    return FloatRay{local, glm::vec3(ray.direction), toFloat(ray.tMin), toFloat(ray.tMax)};
   }
 
   // Turns Embree's single-precision answer into a hit in the world frame, re-intersecting
@@ -502,10 +512,7 @@ std::optional<RayHit> QueryScene::raycast(const QueryRay& ray) const {
 }
 
 bool QueryScene::lineOfSight(const glm::dvec3& a, const glm::dvec3& b) const {
-  for (int i = 0; i < 3; ++i) {
-    if (!std::isfinite(a[i]) || !std::isfinite(b[i])) return false;
-  }
-  return !m_impl->occluded(a, b);
+  return isTraceable(a) && isTraceable(b) && !m_impl->occluded(a, b);
 }
 
 void QueryScene::raycastMany(std::span<const QueryRay> rays, std::span<std::optional<RayHit>> hits,

@@ -9,6 +9,7 @@
 
 #include <polder/terrain/dem_parsing.hpp>
 #include <polder/terrain/dem_reader.hpp>
+#include <polder/terrain/dem_validation.hpp>
 #include <polder/terrain/hgt.hpp>
 #include <polder/terrain/raw.hpp>
 #include <polder/terrain/rgb_encoding.hpp>
@@ -272,6 +273,8 @@ SampleFormat rawSampleFormat(SampleType type) {
 Result<std::unique_ptr<DemRows>> openStreamed(RasterHeader header, Result<std::unique_ptr<io::StoredRows>> stored,
                                               const BandDecoder& decoder) {
   if (!stored) return stored.error();
+  if (Status spans = checkSpansGround(std::uint64_t(header.width), std::uint64_t(header.height)); !spans)
+    return spans.error();
   return std::unique_ptr<DemRows>(new StreamedRows(std::move(header), std::move(*stored), decoder));
 }
 

@@ -1,27 +1,15 @@
-// The float TIFF writer, with libtiff directly: OpenImageIO 2.4 cannot write GeoTIFF tags.
+// The float TIFF writer of a whole heightfield: the streamed writer, a band at a time.
 #include <polder/terrain/image_writer.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
-#include <tiffio.h>
-
-#include "io_text.hpp"
-#include "tiff_tags.hpp"
+#include <polder/terrain/height_tiff_stream.hpp>
 
 namespace polder::terrain {
-namespace {
-
-constexpr std::uint32_t kRowsPerStrip = 16;
-
-struct TiffCloser {
-  void operator()(TIFF* file) const { TIFFClose(file); }
-};
-
-}  // namespace
 
 Status writeHeightTiffFloat(const std::filesystem::path& path, const Heightfield& field) {
   const auto fail = [&](ErrorKind kind, const std::string& message) {
@@ -34,23 +22,23 @@ Status writeHeightTiffFloat(const std::filesystem::path& path, const Heightfield
   if (std::any_of(field.heights.begin(), field.heights.end(), [](float h) { return !std::isfinite(h); }))
     return fail(ErrorKind::InvalidArgument, "a height is not finite");
 
-  std::string errors;
-  std::unique_ptr<TIFF, TiffCloser> file(io::openTiff(path, "w", errors));
-  if (!file) return fail(ErrorKind::Io, "cannot create the file: " + io::oneLine(errors));
-  TIFF* tif = file.get();
-  if (!io::setHeightTiffTags(tif, field.width, field.height, field.spacingX, field.spacingY))
-    return fail(ErrorKind::Environment, "libtiff refused the GeoTIFF tags");
-  TIFFSetField(tif, TIFFTAG_ROWSPERSTRIP, kRowsPerStrip);
-
-  std::vector<float> row(std::size_t(field.width));
-  for (int r = 0; r < field.height; ++r) {
-    const float* south = &field.heights[field.index(0, field.height - 1 - r)];
-    std::copy(south, south + field.width, row.begin());
-    if (TIFFWriteScanline(tif, row.data(), std::uint32_t(r), 0) < 0)
-      return fail(ErrorKind::Io, "cannot write row " + std::to_string(r) + ": " + io::oneLine(errors));
+  // The streamed writer does the writing: tiled, atomic, every libtiff failure reported.
+  auto stream = HeightTiffStream::create(path, field.width, field.height, field.spacingX, field.spacingY);
+  if (!stream) return stream.error();
+  const int band = HeightTiffStream::kTileSize;
+  std::vector<float> rows(std::size_t(band) * std::size_t(field.width));
+  for (int first = 0; first < field.height; first += band) {
+    const int count = std::min(band, field.height - first);
+    for (int r = 0; r < count; ++r) {
+      const float* row = &field.heights[field.index(0, field.height - 1 - (first + r))];
+      std::copy(row, row + field.width, rows.begin() + std::ptrdiff_t(r) * field.width);
+    }
+    if (Status written = (*stream)->writeRows(
+            count, std::span<const float>(rows.data(), std::size_t(count) * std::size_t(field.width)));
+        !written)
+      return written;
   }
-  if (!TIFFFlush(tif)) return fail(ErrorKind::Io, "cannot finish the file: " + io::oneLine(errors));
-  return {};
+  return (*stream)->finish();
 }
 
 }  // namespace polder::terrain

@@ -1,6 +1,7 @@
 // The PNG writers (OpenImageIO). The float TIFF writer is in height_tiff_writer.cpp.
 #include <polder/terrain/image_writer.hpp>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -8,7 +9,10 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
+
+#include <polder/file_contents.hpp>
 
 #include "io_text.hpp"
 
@@ -19,17 +23,23 @@ Error named(const std::filesystem::path& path, ErrorKind kind, const std::string
   return makeError(kind, path.string() + ": " + message);
 }
 
-// Writes one image through OpenImageIO; errors name the file.
+// Encodes one image in memory through OpenImageIO, then writes it whole or not at all
+// (core::writeFileContents): the encoder's own file output does not report a full disk.
+// Errors name the file.
 Status writeImage(const std::filesystem::path& path, const OIIO::ImageSpec& spec, const void* pixels) {
   std::unique_ptr<OIIO::ImageOutput> output = OIIO::ImageOutput::create("png");
   if (!output) return named(path, ErrorKind::Environment, "no PNG writer: " + io::oneLine(OIIO::geterror()));
-  if (!output->open(path.string(), spec))
-    return named(path, ErrorKind::Io, "cannot create the file: " + io::oneLine(output->geterror()));
+  if (!output->supports("ioproxy"))
+    return named(path, ErrorKind::Environment, "the PNG writer cannot encode to memory");
+  std::vector<unsigned char> encoded;
+  OIIO::Filesystem::IOVecOutput memory(encoded);
+  if (!output->set_ioproxy(&memory) || !output->open(path.string(), spec))
+    return named(path, ErrorKind::Io, "cannot encode the image: " + io::oneLine(output->geterror()));
   const bool written = output->write_image(spec.format, pixels);
   const bool closed = output->close();
   if (!written || !closed)
-    return named(path, ErrorKind::Io, "cannot write the image: " + io::oneLine(output->geterror()));
-  return {};
+    return named(path, ErrorKind::Io, "cannot encode the image: " + io::oneLine(output->geterror()));
+  return core::writeFileContents(path, std::string_view(reinterpret_cast<const char*>(encoded.data()), encoded.size()));
 }
 
 Status checkField(const std::filesystem::path& path, const Heightfield& field) {

@@ -1,4 +1,4 @@
-// The real DEMs of ../shared/data/dems (PROVENANCE.md section 1); skipped when absent.
+// The real DEMs of the shared data folder (dems/); skipped when absent.
 #include <gtest/gtest.h>
 
 #include <polder/terrain/dem_reader.hpp>

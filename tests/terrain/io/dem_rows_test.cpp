@@ -420,7 +420,7 @@ TEST(DemRows, ARasterFarLargerThanMemoryIsReadABandAtATime) {
   EXPECT_LT(double(usage.ru_maxrss) * 1024.0, 2.0 * double(1 << 30)) << "peak resident memory of this process";
 }
 
-// A real DEM from ../shared/data (PROVENANCE.md section 1), skipped when absent.
+// A real DEM from the shared data folder, skipped when absent.
 TEST(DemRows, SharedSrtmGeoTiffWithVoidsMatchesReadDem) {
   POLDER_REQUIRE_SHARED_FILE(path, "dems/mt_rainier_90m_srtm3.tif");
   const auto heights = expectSameAsReadDem(path);

@@ -1,5 +1,5 @@
 // The uniform-error mesh (uniform_mesh.hpp) on a real DEM: a crop of the Mt Rainier SRTM
-// tile (../shared/data, PROVENANCE.md section 1), skipped when absent. Within the bound when
+// tile (the shared data folder), skipped when absent. Within the bound when
 // measured again here, watertight, fewer triangles for a looser bound.
 #include <gtest/gtest.h>
 

@@ -1,6 +1,7 @@
 // Recorded and built-in camera flights, for the flyover and for reproducible benchmarks.
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <string_view>
 #include <vector>
@@ -31,14 +32,21 @@ struct CameraPose {
 // Poses in time order; in between, positions interpolate linearly and angles along the
 // shorter arc. Before the first pose and after the last, the path holds still (a closed
 // loop wraps instead).
+// Farther than any terrain reaches, near enough that single-precision view matrices and ray
+// tracing stay meaningful.
+inline constexpr double kMaxPoseCoordinateM = 1e9;
+
 class CameraPath {
  public:
-  // At least one pose, times finite and strictly increasing.
+  // At least one pose, times finite and strictly increasing, positions within
+  // kMaxPoseCoordinateM of the origin on each axis.
   static Result<CameraPath> fromPoses(std::vector<CameraPose> poses, bool closedLoop = false);
 
   // Text: one pose per line, "t x y z yaw pitch" (seconds, metres, degrees); '#' starts a
   // comment. Errors name the line.
   static Result<CameraPath> parse(std::string_view text);
+  // parse() on a file's text; errors start with the file's name.
+  static Result<CameraPath> readFile(const std::filesystem::path& file);
 
   CameraPose at(double timeS) const;
   double durationS() const { return m_poses.back().timeS - m_poses.front().timeS; }
@@ -61,10 +69,12 @@ struct FlyoverOptions {
 // A smooth closed loop over a terrain of extent [0, extentX] x [0, extentY]: an ellipse
 // around the centre, at `altitudeM` above the ground it flies over (the ground is taken as
 // the highest point within a few hundred metres ahead and behind, smoothed, so the flight
-// clears peaks without bobbing over every bump).
-CameraPath makeFlyoverLoop(double extentX, double extentY,
-                           const std::function<double(double x, double y)>& groundHeight,
-                           const FlyoverOptions& options = {});
+// clears peaks without bobbing over every bump). O(samples) whatever the extent.
+// InvalidArgument for a non-finite or non-positive extent or speed, a negative or non-finite
+// altitude, pitch or radius, or samples outside 8..1,000,000.
+Result<CameraPath> makeFlyoverLoop(double extentX, double extentY,
+                                   const std::function<double(double x, double y)>& groundHeight,
+                                   const FlyoverOptions& options = {});
 
 struct OrbitOptions {
   double altitudeM = 1000.0;  // above the highest ground on the circle
@@ -74,7 +84,9 @@ struct OrbitOptions {
 };
 
 // A closed circle around the terrain's centre, always looking at the centre's ground.
-CameraPath makeOrbitLoop(double extentX, double extentY, const std::function<double(double x, double y)>& groundHeight,
-                         const OrbitOptions& options = {});
+// InvalidArgument as makeFlyoverLoop.
+Result<CameraPath> makeOrbitLoop(double extentX, double extentY,
+                                 const std::function<double(double x, double y)>& groundHeight,
+                                 const OrbitOptions& options = {});
 
 }  // namespace polder

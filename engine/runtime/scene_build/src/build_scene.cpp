@@ -2,9 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <map>
-#include <sstream>
 
 #include "scene_models.hpp"
 
@@ -77,23 +75,13 @@ Status addNodes(const NodeDescription& description, const std::string& where,
   return {};
 }
 
-Result<CameraPath> readCameraPath(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) return errorAt("camera.path", "cannot open '" + file.string() + "' (static, flyover, orbit or a file)");
-  std::stringstream text;
-  text << in.rdbuf();
-  auto parsed = CameraPath::parse(text.str());
-  if (!parsed) return errorAt("camera.path", parsed.error().message);
-  return parsed;
-}
-
 Result<std::optional<CameraPath>> buildCameraPath(const CameraPathDescription& description,
                                                   const terrain::Heightfield* terrain) {
   using Kind = CameraPathDescription::Kind;
   if (description.kind == Kind::Static) return std::optional<CameraPath>();
   if (description.kind == Kind::File) {
-    auto path = readCameraPath(description.file);
-    if (!path) return path.error();
+    auto path = CameraPath::readFile(description.file);
+    if (!path) return errorAt("camera.path", path.error().message);
     return std::optional<CameraPath>(std::move(*path));
   }
   const terrain::Heightfield& field = *terrain;
@@ -102,12 +90,16 @@ Result<std::optional<CameraPath>> buildCameraPath(const CameraPathDescription& d
     FlyoverOptions fly;
     fly.altitudeM = description.altitudeM;
     fly.speedMps = description.speedMps;
-    return std::optional<CameraPath>(makeFlyoverLoop(field.extentX(), field.extentY(), ground, fly));
+    auto loop = makeFlyoverLoop(field.extentX(), field.extentY(), ground, fly);
+    if (!loop) return loop.error();
+    return std::optional<CameraPath>(std::move(*loop));
   }
   OrbitOptions orbit;
   orbit.altitudeM = description.altitudeM;
   orbit.speedMps = description.speedMps;
-  return std::optional<CameraPath>(makeOrbitLoop(field.extentX(), field.extentY(), ground, orbit));
+  auto loop = makeOrbitLoop(field.extentX(), field.extentY(), ground, orbit);
+  if (!loop) return loop.error();
+  return std::optional<CameraPath>(std::move(*loop));
 }
 
 // Clip planes and shading from whatever the scene holds.

@@ -25,8 +25,12 @@ std::uint64_t physicalMemoryBytes();
 // Memory a reader needs per sample: what it reads, the float height, and void-filling scratch.
 inline std::uint64_t demBytesPerSample(std::uint64_t storedBytesPerSample) { return storedBytesPerSample + 4 + 7; }
 
-// Fails before allocation when a width x height raster cannot be read: no samples
-// (InvalidData), more than kMaxDemSamples, or more than memoryLimitBytes (0: the machine's
+// One row or column spans no ground: nothing to draw, measure or query. InvalidData for
+// fewer than 2 x 2 samples.
+Status checkSpansGround(std::uint64_t width, std::uint64_t height);
+
+// Fails before allocation when a width x height raster cannot be read: fewer than 2 x 2
+// samples (InvalidData), more than kMaxDemSamples, or more than memoryLimitBytes (0: the machine's
 // physical memory) at bytesPerSample (OutOfMemory).
 Status checkRasterSize(std::uint64_t width, std::uint64_t height, std::uint64_t bytesPerSample,
                        std::uint64_t memoryLimitBytes);

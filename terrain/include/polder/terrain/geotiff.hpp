@@ -36,7 +36,8 @@ std::optional<std::uint16_t> geoKeyValue(const std::vector<std::uint16_t>& geoKe
 // The ground spacing of a width x height raster in metres, or nullopt when the tags give no
 // pixel size. Geographic rasters (degrees) and Web Mercator (EPSG:3857) are converted at
 // the raster's centre latitude; projected ones use their linear unit (metre, foot); a pixel
-// size without GeoKeys is taken as metres. Fails (Unsupported) on units it does not know.
+// size without GeoKeys is taken as metres. Fails (Unsupported) on units it does not know,
+// (InvalidData) on a pixel size that is given but zero, negative or not finite.
 Result<std::optional<GroundSpacing>> geoTiffSpacing(const GeoTiffTags& tags, int width, int height);
 
 // The GDAL_NODATA text ("-32768", "nan", "-3.4028234663852886e+38") as a number.

@@ -39,10 +39,12 @@ RegionPartition singleRegion();
 // A grid of cells over the bounding box's two or three longest axes (cells[i] per axis,
 // 1 leaves an axis uncut); empty cells are dropped and region ids renumbered densely in
 // cell order. E.g. {6, 6, 1} cuts a terrain-like mesh lying in x/y into 6 x 6 regions.
+// Axes take at most 2^20 cells; memory follows the vertices, not the cells.
 RegionPartition gridPartition(const std::vector<glm::vec3>& positions, std::array<std::uint32_t, 3> cells);
 
-// About `regionCount` compact regions: a grid over the bounding box whose cells are
-// near-cubic, refined until it has at least regionCount non-empty cells.
+// About `regionCount` compact regions (no more than there are vertices): a grid over the
+// bounding box whose cells are near-cubic, refined until it has at least that many non-empty
+// cells. Time and memory follow the vertex count, whatever the count asked for.
 RegionPartition automaticPartition(const std::vector<glm::vec3>& positions, std::uint32_t regionCount);
 
 // Checks sizes and ids; `what` names the source in the message.

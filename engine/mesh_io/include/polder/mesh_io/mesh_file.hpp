@@ -67,9 +67,4 @@ struct MeshWriteOptions {
 Status writeMesh(const std::filesystem::path& file, const mesh::TriangleMesh& mesh,
                  const MeshWriteOptions& options = {});
 
-// Writes bytes as writeMesh writes a mesh: under a temporary name beside the file, then
-// renamed, so a failed write leaves no partial file (for reports written beside meshes).
-// Io errors name the file.
-Status writeFileReplacing(const std::filesystem::path& file, std::string_view bytes);
-
 }  // namespace polder::mesh_io

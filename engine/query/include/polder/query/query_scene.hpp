@@ -87,14 +87,14 @@ class QueryScene {
   std::optional<double> height(double x, double y) const;
 
   // The nearest hit within maxDistance metres of origin. nullopt for a miss, a zero or
-  // non-finite direction, or a non-finite origin.
+  // non-finite direction, or an origin that is not finite or lies beyond 1e15 m.
   std::optional<RayHit> raycast(const glm::dvec3& origin, const glm::dvec3& direction,
                                 double maxDistance = std::numeric_limits<double>::infinity()) const;
   std::optional<RayHit> raycast(const QueryRay& ray) const;
 
   // True when nothing lies on the segment from a to b. Both ends are pulled in by a few
   // floatResolution() so that points on the surface do not hide themselves. A segment
-  // with a non-finite end is reported as blocked.
+  // with an end that is not finite or lies beyond 1e15 m is reported as blocked.
   bool lineOfSight(const glm::dvec3& a, const glm::dvec3& b) const;
 
   // raycast() for each ray, hits[i] for rays[i], traced 16 at a time (Embree packets).
