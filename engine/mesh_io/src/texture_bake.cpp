@@ -52,8 +52,12 @@ Result<std::vector<glm::vec4>> sampleTexture(const std::filesystem::path& image,
   } catch (const std::bad_alloc&) {
     return imageError(image, ErrorKind::OutOfMemory, "not enough memory for the image");
   }
-  if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data()))
-    return imageError(image, ErrorKind::InvalidData, "cannot decode the image: " + oneLine(input->geterror()));
+  // Success with a recorded error is a corrupt image decoded to garbage: refused too.
+  const bool read = input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data());
+  const std::string problem = input->geterror();
+  if (!read || !problem.empty())
+    return imageError(image, ErrorKind::InvalidData,
+                      "cannot decode the image: " + oneLine(problem.empty() ? "the decoder failed" : problem));
   input->close();
 
   const auto texel = [&](int x, int y) {

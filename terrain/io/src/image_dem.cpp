@@ -83,9 +83,11 @@ Result<FileHints> readFileHints(const std::filesystem::path& path, std::uint64_t
     const auto tags = readTiffTags(path, fileLength);
     if (!tags) return tags.error();
     hints.geoTiff = tags->georeferenced() || !tags->geoKeys.empty();
-    const auto spacing = geoTiffSpacing(*tags, spec.width, spec.height);
-    if (!spacing) return spacing.error();
-    hints.spacing = *spacing;
+    if (!options.spacingM) {  // a spacing given by the caller overrides the file's, good or bad
+      const auto spacing = geoTiffSpacing(*tags, spec.width, spec.height);
+      if (!spacing) return spacing.error();
+      hints.spacing = *spacing;
+    }
     if (tags->gdalNodata && options.nodataEnabled) {
       const auto nodata = parseGdalNodata(*tags->gdalNodata);
       if (!nodata) return nodata.error();
@@ -160,8 +162,12 @@ Result<Dem> readImageDem(const std::filesystem::path& path, std::uint64_t fileLe
 
   const std::size_t samples = std::size_t(spec.width) * std::size_t(spec.height);
   std::vector<std::byte> pixels(samples * std::size_t(channels) * stored->request.size());
-  if (!input->read_image(0, 0, 0, channels, stored->request, pixels.data()))
-    return makeError(ErrorKind::InvalidData, "cannot read the pixels: " + oneLine(input->geterror()));
+  // Success with a recorded error is a corrupt strip decoded to garbage: refused too.
+  const bool read = input->read_image(0, 0, 0, channels, stored->request, pixels.data());
+  const std::string problem = input->geterror();
+  if (!read || !problem.empty())
+    return makeError(ErrorKind::InvalidData,
+                     "cannot read the pixels: " + oneLine(problem.empty() ? "the decoder failed" : problem));
   input->close();
 
   DemInfo info;

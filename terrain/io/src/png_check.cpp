@@ -1,5 +1,8 @@
-// PNG chunk layout and CRC-32 as in the PNG specification (ISO/IEC 15948), sections 5.3, D.
+// PNG chunk layout and CRC-32 as in the PNG specification (ISO/IEC 15948), sections 5.3, D;
+// the image data is one zlib stream across the IDAT chunks (section 10), inflated by zlib.
 #include "png_check.hpp"
+
+#include <zlib.h>
 
 #include <algorithm>
 #include <array>
@@ -38,6 +41,42 @@ bool isChunkType(const unsigned char* type) {
   return true;
 }
 
+// Inflates the concatenated IDAT data into a scratch buffer, only to find a corrupt stream
+// before libpng does (libpng prints its complaint to stderr).
+class ImageDataCheck {
+ public:
+  ImageDataCheck() { m_ready = inflateInit(&m_stream) == Z_OK; }
+  ~ImageDataCheck() {
+    if (m_ready) inflateEnd(&m_stream);
+  }
+  ImageDataCheck(const ImageDataCheck&) = delete;
+  ImageDataCheck& operator=(const ImageDataCheck&) = delete;
+
+  // Empty while the data so far is a valid stream, else zlib's reason.
+  std::string feed(unsigned char* bytes, std::size_t count) {
+    if (!m_ready) return "zlib could not start";
+    m_stream.next_in = bytes;
+    m_stream.avail_in = uInt(count);
+    while (m_stream.avail_in > 0 && !m_ended) {
+      m_stream.next_out = m_scratch.data();
+      m_stream.avail_out = uInt(m_scratch.size());
+      const int result = inflate(&m_stream, Z_NO_FLUSH);
+      if (result == Z_STREAM_END)
+        m_ended = true;
+      else if (result != Z_OK)
+        return m_stream.msg ? m_stream.msg : "the compressed data is corrupt";
+    }
+    return {};
+  }
+  bool ended() const { return m_ended; }
+
+ private:
+  z_stream m_stream{};
+  std::array<unsigned char, 1 << 16> m_scratch{};
+  bool m_ready = false;
+  bool m_ended = false;
+};
+
 }  // namespace
 
 Status checkPngStructure(const std::filesystem::path& path, std::uint64_t fileLength) {
@@ -48,6 +87,7 @@ Status checkPngStructure(const std::filesystem::path& path, std::uint64_t fileLe
   in.seekg(std::streamoff(kSignatureBytes));
 
   std::vector<unsigned char> buffer(1 << 16);
+  ImageDataCheck imageData;
   std::uint64_t offset = kSignatureBytes;
   while (true) {
     unsigned char header[8];
@@ -69,6 +109,11 @@ Status checkPngStructure(const std::filesystem::path& path, std::uint64_t fileLe
       if (!in.read(reinterpret_cast<char*>(buffer.data()), std::streamsize(part)))
         return makeError(ErrorKind::Io, "cannot read chunk " + type + " at byte " + std::to_string(offset));
       crc = updateCrc(crc, buffer.data(), part);
+      if (type == "IDAT")
+        if (const std::string problem = imageData.feed(buffer.data(), part); !problem.empty())
+          return makeError(ErrorKind::InvalidData, "corrupt PNG: the image data in chunk IDAT at byte " +
+                                                       std::to_string(offset) + " does not decompress (" + problem +
+                                                       ")");
       left -= std::uint32_t(part);
     }
     unsigned char stored[4];
@@ -77,7 +122,11 @@ Status checkPngStructure(const std::filesystem::path& path, std::uint64_t fileLe
     if (bigEndian32(stored) != (crc ^ 0xffffffffu))
       return makeError(ErrorKind::InvalidData,
                        "corrupt PNG: chunk " + type + " at byte " + std::to_string(offset) + " fails its CRC check");
-    if (type == "IEND") return {};
+    if (type == "IEND") {
+      if (!imageData.ended())
+        return makeError(ErrorKind::InvalidData, "corrupt PNG: the image data ends before its compressed stream does");
+      return {};
+    }
     offset += 12 + std::uint64_t(length);
   }
 }

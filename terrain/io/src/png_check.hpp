@@ -1,8 +1,8 @@
 // A structural check of a PNG before libpng sees it: every chunk complete, every CRC right,
-// an IEND at the end. libpng reports a truncated or corrupt file by printing to stderr from
-// inside OpenImageIO, which a library must not do; this finds those files first and names
-// the problem better. (Corruption inside the zlib stream with intact CRCs still reaches
-// libpng; such files are made on purpose, not by failing disks or downloads.)
+// the image data one whole zlib stream (inflated and discarded, checksum included), an IEND
+// at the end. libpng reports a truncated or corrupt file by printing to stderr from inside
+// OpenImageIO, which a library must not do; this finds those files first and names the
+// problem better. Memory stays bounded whatever the image size.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +13,7 @@
 namespace polder::terrain::io {
 
 // Fails (InvalidData) on a truncated or corrupt PNG, naming the chunk and its byte offset.
+// Reads the whole file once.
 Status checkPngStructure(const std::filesystem::path& path, std::uint64_t fileLength);
 
 }  // namespace polder::terrain::io

@@ -91,24 +91,30 @@ class ImageRows final : public StoredRows {
     m_bandBytes.resize(std::size_t(y1 - y0) * m_rowBytes);
     if (!m_tiled) {
       if (Status read = readScanlines(y0, y1, m_bandBytes.data()); !read) return read;
-    } else if (!m_input->read_tiles(0, 0, m_spec.x, m_spec.x + m_spec.width, m_spec.y + y0, m_spec.y + y1, m_spec.z,
-                                    m_spec.z + std::max(1, m_spec.depth), 0, m_channels, m_type, m_bandBytes.data())) {
-      return failed(y0, y1);
+    } else if (Status read = checked(
+                   m_input->read_tiles(0, 0, m_spec.x, m_spec.x + m_spec.width, m_spec.y + y0, m_spec.y + y1, m_spec.z,
+                                       m_spec.z + std::max(1, m_spec.depth), 0, m_channels, m_type, m_bandBytes.data()),
+                   y0, y1);
+               !read) {
+      return read;
     }
     m_band = band;
     return {};
   }
 
   Status readScanlines(int y0, int y1, std::byte* out) {
-    if (!m_input->read_scanlines(0, 0, m_spec.y + y0, m_spec.y + y1, m_spec.z, 0, m_channels, m_type, out))
-      return failed(y0, y1);
-    return {};
+    return checked(m_input->read_scanlines(0, 0, m_spec.y + y0, m_spec.y + y1, m_spec.z, 0, m_channels, m_type, out),
+                   y0, y1);
   }
 
-  Status failed(int y0, int y1) {
-    return makeError(ErrorKind::InvalidData, "cannot read the pixels of rows " + std::to_string(y0) + ".." +
-                                                 std::to_string(y1 - 1) +
-                                                 " from the north: " + oneLine(m_input->geterror()));
+  // A read that reports success may still have met a decoder error (a corrupt strip):
+  // OpenImageIO then only records it, and the rows hold whatever was decoded.
+  Status checked(bool succeeded, int y0, int y1) {
+    const std::string problem = m_input->geterror();
+    if (succeeded && problem.empty()) return {};
+    return makeError(ErrorKind::InvalidData,
+                     "cannot read the pixels of rows " + std::to_string(y0) + ".." + std::to_string(y1 - 1) +
+                         " from the north: " + oneLine(problem.empty() ? "the decoder failed" : problem));
   }
 
   std::unique_ptr<OIIO::ImageInput> m_input;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <polder/terrain/dem_reader.hpp>
+#include <polder/terrain/dem_rows.hpp>
 #include <polder/terrain/dem_validation.hpp>
 
 #include "dem_test_files.hpp"
@@ -51,7 +52,9 @@ std::string pngChunk(const std::string& type, const std::string& data) {
 // A PNG whose header claims width x height 16-bit grey samples (its pixels are missing).
 std::string pngHeaderOnly(std::uint32_t width, std::uint32_t height) {
   const std::string ihdr = bigEndian32(width) + bigEndian32(height) + std::string("\x10\x00\x00\x00\x00", 5);
-  return std::string("\x89PNG\r\n\x1a\n", 8) + pngChunk("IHDR", ihdr) + pngChunk("IDAT", "") + pngChunk("IEND", "");
+  const std::string emptyStream("\x78\x9c\x03\x00\x00\x00\x00\x01", 8);  // zlib's whole stream of no bytes
+  return std::string("\x89PNG\r\n\x1a\n", 8) + pngChunk("IHDR", ihdr) + pngChunk("IDAT", emptyStream) +
+         pngChunk("IEND", "");
 }
 
 std::string littleEndian(std::uint64_t value, int bytes) {
@@ -131,6 +134,54 @@ TEST(ReadDemErrors, TruncatedAndCorruptPng) {
   for (std::size_t i = 200; i < 260; ++i) corrupt[i] = char(corrupt[i] ^ 0x5a);
   test::writeFile(dir.file("corrupt.png"), corrupt);
   expectError(dir.file("corrupt.png"), {}, ErrorKind::InvalidData, "corrupt PNG: chunk IDAT at byte");
+}
+
+// Compressed data that is corrupt inside chunks and strips whose framing is intact: the
+// decoders' complaints become errors (never garbage heights, never a line from libpng), in
+// the whole-raster reader and the row reader alike.
+TEST(ReadDemErrors, CorruptCompressedDataWithIntactFraming) {
+  ScratchDir dir;
+  std::vector<std::uint16_t> ramp(64 * 64);
+  for (std::size_t i = 0; i < ramp.size(); ++i) ramp[i] = std::uint16_t(i * 7);
+  test::writeImage(dir.file("good.png"), 64, 64, 1, ramp);
+  const std::string png = test::readBytes(dir.file("good.png"));
+  const std::size_t idat = png.find("IDAT") - 4;
+  const std::uint32_t length = std::uint32_t(std::uint8_t(png[idat])) << 24 |
+                               std::uint32_t(std::uint8_t(png[idat + 1])) << 16 |
+                               std::uint32_t(std::uint8_t(png[idat + 2])) << 8 | std::uint8_t(png[idat + 3]);
+  ASSERT_GT(length, 100u);
+  std::string data = png.substr(idat + 8, length);
+  const auto withData = [&](const std::string& replaced) {
+    return png.substr(0, idat) + pngChunk("IDAT", replaced) + png.substr(idat + 12 + length);
+  };
+  std::string scrambled = data;
+  for (std::size_t i = 20; i < 80; ++i) scrambled[i] = char(scrambled[i] ^ 0x33);
+  test::writeFile(dir.file("scrambled.png"), withData(scrambled));
+  test::writeFile(dir.file("unfinished.png"), withData(data.substr(0, data.size() / 2)));
+  for (const char* name : {"scrambled.png", "unfinished.png"}) {
+    expectError(dir.file(name), {}, ErrorKind::InvalidData, "corrupt PNG: the image data");
+    const auto rows = openDemRows(dir.file(name), {});
+    ASSERT_FALSE(rows.ok()) << name;
+    EXPECT_EQ(rows.error().kind, ErrorKind::InvalidData);
+  }
+
+  // LZW strips: OpenImageIO reports success and only records libtiff's error.
+  std::vector<std::uint16_t> noise(64 * 64);
+  std::mt19937 random(5);
+  for (auto& v : noise) v = std::uint16_t(random());
+  test::writeImage(dir.file("lzw.tif"), 64, 64, 1, noise, {0, "lzw"});
+  ASSERT_TRUE(readDem(dir.file("lzw.tif"), {}).ok());
+  std::string tiff = test::readBytes(dir.file("lzw.tif"));
+  for (std::size_t i = tiff.size() / 4; i < tiff.size() / 4 + 8; ++i) tiff[i] = char(tiff[i] ^ 0xa5);
+  test::writeFile(dir.file("lzw_damaged.tif"), tiff);
+  expectError(dir.file("lzw_damaged.tif"), {}, ErrorKind::InvalidData, "cannot read the pixels");
+  auto rows = openDemRows(dir.file("lzw_damaged.tif"), {});
+  if (rows.ok()) {
+    std::vector<float> band(std::size_t(64) * 64);
+    Status read = (*rows)->readRows(0, 64, band);
+    ASSERT_FALSE(read.ok());
+    EXPECT_NE(read.error().message.find("cannot read the pixels"), std::string::npos) << read.error().message;
+  }
 }
 
 TEST(ReadDemErrors, TruncatedAndCorruptTiff) {
