@@ -454,6 +454,17 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   command->callback([arguments, command, &exitCode] {
     arguments->framesGiven = command->count("--frames") > 0;
     if (!arguments->scene.empty()) {
+      // A scene carries its own terrain, camera and LOD settings: a DEM flight's options with
+      // it would be silently ignored.
+      for (const CLI::Option* option : command->get_options()) {
+        const std::string name = option->get_name();
+        if (option->count() > 0 && name != "--scene" && name != "--frames" && name != "--json") {
+          std::fprintf(stderr, "polder: error: bench --scene takes only --frames and --json, not %s\n",
+                       name == "dem" ? "a DEM" : name.c_str());
+          exitCode = kExitUsage;
+          return;
+        }
+      }
       exitCode =
           benchScene(arguments->scene, arguments->framesGiven ? std::optional<int>(arguments->frames) : std::nullopt,
                      arguments->json);

@@ -137,12 +137,13 @@ int runSimplify(const SimplifyArguments& arguments) {
   const mesh::TriangleMesh simplified = mesh::extractMesh(instance);
   const double extractMs = millisecondsSince(extractStart);
 
-  if (Status written = mesh_io::writeMesh(outPath, simplified); !written) return reportError(written.error());
-
+  // Measured before writing, so that a mesh the measure refuses leaves no output behind.
   query::SurfaceDeviationOptions deviationOptions;
   deviationOptions.samplesPerSurface = arguments.samples;
   auto deviation = query::measureSurfaceDeviation(*original, simplified, deviationOptions);
-  if (!deviation) return reportError(deviation.error());
+  if (!deviation)
+    return reportError(makeError(deviation.error().kind, arguments.input + ": " + deviation.error().message));
+  if (Status written = mesh_io::writeMesh(outPath, simplified); !written) return reportError(written.error());
   const bool subset = isSubsetOfOriginal(*original, simplified);
   const std::size_t addedOpenEdges = openEdgesAdded(*original, simplified);
   std::uint32_t baseTriangles = 0;

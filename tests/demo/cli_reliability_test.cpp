@@ -99,6 +99,8 @@ TEST_F(PolderReliability, NumbersOnTheCommandLineAreFiniteInRangeAndNeverWrapped
       {"gen --size -5" + out, 2, "--size"},
       {"gen --size 65 --seed -1" + out, 2, "--seed"},
       {"gen --size 65 --spacing 0" + out, 2, "--spacing"},
+      {"bench " + dem() + " --scene " + file("none.json"), 2, "a DEM"},
+      {"bench --scene " + file("none.json") + " --tau 2", 2, "--tau"},
   };
   for (const BadCase& c : cases) expectRefused(c);
   EXPECT_FALSE(std::filesystem::exists(file("out.png")));

@@ -92,6 +92,28 @@ TEST_P(BuilderProperties, NoStepFlipsATriangle) {
   }
 }
 
+// Two apexes of valence 300 (one ring between the poles): the fans too large to scan go
+// through the builders' other path, with the same guarantees at every level.
+TEST_P(BuilderProperties, HighValenceApexesKeepEveryLevelClosedAndUnflipped) {
+  const TriangleMesh bicone = test::bumpySphere(2, 300);
+  const ProgressiveMesh pm = progressive(bicone, singleRegion());
+  const RegionSequence& seq = pm.region(0);
+  EXPECT_LE(seq.trianglesAt(0), 16u);
+  ProgressiveMeshInstance instance(pm);
+  const auto& p = pm.vertices().positions;
+  for (std::uint32_t level = seq.levelCount(); level > 0; --level) {
+    const std::vector<std::uint32_t> before(instance.indices(0).begin(), instance.indices(0).end());
+    instance.setLevel(0, level - 1);
+    const auto after = instance.indices(0);
+    for (const auto& [edge, count] : edgeUse(drawnIndices(instance))) ASSERT_EQ(count, 2) << "level " << level - 1;
+    for (std::size_t t = 0; t < after.size(); t += 3) {
+      if (std::equal(after.begin() + t, after.begin() + t + 3, before.begin() + t)) continue;
+      ASSERT_GT(glm::dot(triangleNormal(p, before, t), triangleNormal(p, after, t)), 0.0)
+          << "step to level " << level - 1 << " flips triangle " << t / 3;
+    }
+  }
+}
+
 TEST_P(BuilderProperties, SameLevelSameTrianglesWhateverThePath) {
   const TriangleMesh sphere = test::bumpySphere(14, 18);
   const RegionPartition partition = automaticPartition(sphere.positions, 4);

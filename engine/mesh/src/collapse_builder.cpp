@@ -266,10 +266,13 @@ class CollapseBuilder {
   static bool cheaper(const Option& x, const Option& y) { return x.cost < y.cost; }
 
   // Gathers v's neighbours, in the order its fan first meets them, with the number of
-  // triangles on each edge. A fan holds a handful: a scan needs no marks, so threads may
-  // gather at once.
+  // triangles on each edge. A fan usually holds a handful: a scan needs no marks, so threads
+  // may gather at once; a large fan (a cone's apex) is sorted instead, so that a vertex of
+  // valence n costs O(n log n), not O(n^2).
   void gatherNeighbours(std::uint32_t v, std::vector<Neighbour>& out) const {
+    constexpr std::size_t kScannedFan = 32;
     out.clear();
+    if (m_fan[v].size() > kScannedFan) return gatherNeighboursSorted(v, out);
     for (std::uint32_t t : m_fan[v])
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t x = m_corner[3 * t + k];
@@ -280,6 +283,31 @@ class CollapseBuilder {
         else
           ++seen->sharedTriangles;
       }
+  }
+
+  void gatherNeighboursSorted(std::uint32_t v, std::vector<Neighbour>& out) const {
+    std::vector<Neighbour> met;  // (vertex, where the fan first meets it)
+    met.reserve(2 * m_fan[v].size());
+    for (std::uint32_t t : m_fan[v])
+      for (int k = 0; k < 3; ++k)
+        if (const std::uint32_t x = m_corner[3 * t + k]; x != v) met.push_back({x, std::uint32_t(met.size())});
+    std::sort(met.begin(), met.end(), [](const Neighbour& a, const Neighbour& b) {
+      return a.vertex != b.vertex ? a.vertex < b.vertex : a.sharedTriangles < b.sharedTriangles;
+    });
+    std::vector<Neighbour> first;  // (vertex, first meeting), one per neighbour
+    for (std::size_t i = 0; i < met.size();) {
+      std::size_t end = i;
+      while (end < met.size() && met[end].vertex == met[i].vertex) ++end;
+      first.push_back(met[i]);
+      out.push_back({met[i].vertex, std::uint32_t(end - i)});
+      i = end;
+    }
+    std::vector<std::uint32_t> order(out.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return first[a].sharedTriangles < first[b].sharedTriangles; });
+    for (std::uint32_t i = 0; i < order.size(); ++i) met[i] = out[order[i]];
+    out.assign(met.begin(), met.begin() + std::ptrdiff_t(order.size()));
   }
 
   // A fresh mark value; marks are cleared when the counter would wrap.
