@@ -87,6 +87,12 @@ Result<Dem> finishDem(Heightfield field, DemInfo info, const DemOptions& options
   if (info.voids == std::int64_t(field.sampleCount()))
     return makeError(ErrorKind::InvalidData, "all " + std::to_string(info.voids) + " samples are no-data (voids)");
   const auto [low, high] = field.heightRange();
+  if (!(std::abs(low) <= kMaxDemHeightM && std::abs(high) <= kMaxDemHeightM)) {
+    char range[96];
+    std::snprintf(range, sizeof range, "heights reach %.6g .. %.6g m, beyond the +-%.0g m of any terrain", double(low),
+                  double(high), kMaxDemHeightM);
+    return makeError(ErrorKind::InvalidData, std::string(range) + " (is the height scale right?)");
+  }
   info.minM = low;
   info.maxM = high;
   return Dem{std::move(field), std::move(info)};

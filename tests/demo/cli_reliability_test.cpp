@@ -197,5 +197,20 @@ TEST_F(PolderReliability, WritersReportFailedWritesAndLeaveNoFile) {
   }
 }
 
+// Degenerate but valid terrain flies within tau and watertight: the smallest DEM, a flat one,
+// and extreme but finite spacings; an impossible height scale is refused with its reason.
+TEST_F(PolderReliability, DegenerateButValidDemsFlyAndImpossibleHeightsAreRefused) {
+  writeFile(s_dir->file("two.r16"), std::string("\x10\x00\x20\x00\x30\x00\x40\x00", 8));
+  writeFile(s_dir->file("flat.r16"), std::string(2 * 128 * 128, '\0'));
+  const std::string flat = file("flat.r16") + " --raw 128x128:u16";
+  for (const std::string& flight : {file("two.r16") + " --raw 2x2:u16", flat, flat + " --spacing 0.001",
+                                    flat + " --spacing 1000000", dem() + " --zscale -10"}) {
+    const ProgramRun run = runPolder("bench " + flight + " --frames 6 --measure-every 2");
+    EXPECT_EQ(run.exitCode, 0) << flight << "\n" << run.output;  // 1 would be tau or a crack broken
+  }
+  expectRefused({"bench " + dem() + " --zscale 1000000", 1, "height scale"});
+  expectRefused({"bench " + dem() + " --zscale -5000", 1, "dem.png"});
+}
+
 }  // namespace
 }  // namespace polder::test

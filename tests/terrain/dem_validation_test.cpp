@@ -115,5 +115,22 @@ TEST(FinishDem, RejectsEmptyAndAllVoid) {
   EXPECT_NE(dem.error().message.find("all 16 samples are no-data"), std::string::npos) << dem.error().message;
 }
 
+// Heights no terrain has (a height scale applied twice, say) are refused on either side;
+// the deepest and highest real ground passes.
+TEST(FinishDem, RejectsHeightsBeyondAnyTerrain) {
+  for (const float extreme : {2e6f, -2e6f, 3e38f}) {
+    Heightfield field(3, 3);
+    field.at(1, 1) = extreme;
+    const auto dem = finishDem(field, {}, {}, std::nullopt);
+    ASSERT_FALSE(dem.ok()) << extreme;
+    EXPECT_EQ(dem.error().kind, ErrorKind::InvalidData);
+    EXPECT_NE(dem.error().message.find("height scale"), std::string::npos) << dem.error().message;
+  }
+  Heightfield real(3, 3);
+  real.at(0, 0) = -10994.0f;  // Challenger Deep
+  real.at(2, 2) = 8849.0f;    // Everest
+  EXPECT_TRUE(finishDem(real, {}, {}, std::nullopt).ok());
+}
+
 }  // namespace
 }  // namespace polder::terrain

@@ -15,6 +15,11 @@ namespace polder::terrain {
 // Rasters above this many samples are refused whatever the memory.
 inline constexpr std::uint64_t kMaxDemSamples = std::uint64_t(1) << 31;
 
+// Heights beyond this, in metres once scaled, are no terrain (the deepest trench and the
+// highest volcano are tens of kilometres): a wrong height scale, refused before the single-
+// precision geometry and camera paths built on them lose meaning.
+inline constexpr double kMaxDemHeightM = 1e6;
+
 // Fails (InvalidArgument) on options out of range: spacingM not positive and finite, zScale
 // zero or not finite, a raw layout without samples.
 Status checkDemOptions(const DemOptions& options);
@@ -36,8 +41,9 @@ Status checkRasterSize(std::uint64_t width, std::uint64_t height, std::uint64_t 
                        std::uint64_t memoryLimitBytes);
 
 // The last step of every reader. Sets the spacing (options.spacingM, else `fileSpacing`,
-// else 1 m with info.spacingAssumed), fails (InvalidData) when no sample is valid, fills
-// the voids (NaN samples) and records their count and the height range in info.
+// else 1 m with info.spacingAssumed), fails (InvalidData) when no sample is valid or a height
+// lies beyond kMaxDemHeightM, fills the voids (NaN samples) and records their count and the
+// height range in info.
 Result<Dem> finishDem(Heightfield field, DemInfo info, const DemOptions& options,
                       std::optional<GroundSpacing> fileSpacing);
 
