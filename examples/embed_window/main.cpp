@@ -13,7 +13,9 @@ int main(int argc, char** argv) {
   if (!dem) return std::fprintf(stderr, "%s\n", dem.error().message.c_str()), 1;
   auto field = std::make_shared<const polder::terrain::Heightfield>(std::move(dem->field));
   auto engine = polder::TerrainEngine::create(field);
-  if (!engine || !glfwInit()) return 1;
+  if (!engine) return std::fprintf(stderr, "%s\n", engine.error().message.c_str()), 1;
+  glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "GLFW error %d: %s\n", code, text); });
+  if (!glfwInit()) return 1;
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
@@ -36,7 +38,8 @@ int main(int argc, char** argv) {
       (void)drawer.sync(terrain);  // uploads only the pieces that are new or changed
       (*renderer)->beginFrame(camera, style);
       drawer.draw(terrain);
-      if (!(*renderer)->endFrame()) return 1;
+      if (polder::Status drawn = (*renderer)->endFrame(); !drawn)
+        return std::fprintf(stderr, "%s\n", drawn.error().message.c_str()), 1;
       glfwSwapBuffers(window);
       glfwPollEvents();
     }
