@@ -130,10 +130,7 @@ int main(int argc, char** argv) {
     const bool still = frame >= frames / 2;  // the second half holds still: nothing to upload
     camera.position = {0.3 * field->extentX() + 40.0 * (still ? frames / 2 : frame), 0.4 * field->extentY(), cruiseM};
     glfwGetFramebufferSize(window, &camera.widthPx, &camera.heightPx);
-    // Blocks load in the background; once the camera stops, the first frame waits for the
-    // loads it asks for, so that holding still afterwards has nothing left to change.
-    const polder::TerrainFrame& terrain =
-        frame == frames / 2 ? (*engine)->updateSettled(camera) : (*engine)->update(camera);
+    const polder::TerrainFrame& terrain = (*engine)->update(camera);
     for (const polder::TerrainPieceKey key : terrain.retired) release(pieces.at(key.value)), pieces.erase(key.value);
     for (const auto& list : {terrain.created, terrain.changed}) {
       for (const std::uint32_t i : list) {
