@@ -19,9 +19,7 @@ void addDemArguments(CLI::App& command, DemArguments& arguments) {
   command.add_option("dem", arguments.path, "DEM file (PNG, TIFF/GeoTIFF, EXR, .hgt, .r16/.raw/.f32)")->required();
   command.add_option("--spacing", arguments.spacingM, "Sample spacing in metres (overrides the file)")
       ->check(numberIn(rules::kSpacingM));
-  command.add_option("--zscale", arguments.zScale, "Metres per stored height unit")
-      ->check(numberIn(rules::kZScale))
-      ->capture_default_str();
+  addNumberOption(command, "--zscale", arguments.zScale, "Metres per stored height unit", rules::kZScale);
   command
       .add_option("--encoding", arguments.encoding,
                   "Height encoding of RGB(A) images: auto|greyscale|terrain-rgb|terrarium")

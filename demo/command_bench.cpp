@@ -89,10 +89,7 @@ Result<CameraPath> makePath(const BenchArguments& arguments, const terrain::Heig
     options.speedMps = arguments.speedMps;
     return makeOrbitLoop(field.extentX(), field.extentY(), ground, options);
   }
-  auto path = CameraPath::readFile(arguments.path);
-  if (!path && path.error().kind == ErrorKind::InvalidArgument)  // the file's contents: data
-    return makeError(ErrorKind::InvalidData, path.error().message);
-  return path;
+  return CameraPath::readFile(arguments.path);
 }
 
 // The recorded pass: every frame drawn with `headless` (when given) and timed, every
@@ -407,16 +404,10 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
                       "seed002: the seed's 20x20 blocks of 33x33 at 40 m, 1000 m up, fov 40, 800x800");
   command->add_option("--path", arguments->path, "flyover, orbit, or a file of 't x y z yaw pitch' lines")
       ->capture_default_str();
-  command->add_option("--frames", arguments->frames, "Frames at 60 per second of flight")
-      ->check(numberIn(rules::kFrames))
-      ->capture_default_str();
-  command->add_option("--tau", arguments->tauPx, "Screen-space error tolerance in pixels")
-      ->check(numberIn(rules::kTauPx))
-      ->capture_default_str();
+  addNumberOption(*command, "--frames", arguments->frames, "Frames at 60 per second of flight", rules::kFrames);
+  addNumberOption(*command, "--tau", arguments->tauPx, "Screen-space error tolerance in pixels", rules::kTauPx);
   command->add_option("--size", arguments->size, "Viewport WxH")->capture_default_str();
-  command->add_option("--fov", arguments->fovDeg, "Vertical field of view in degrees")
-      ->check(numberIn(rules::kFovDeg))
-      ->capture_default_str();
+  addNumberOption(*command, "--fov", arguments->fovDeg, "Vertical field of view in degrees", rules::kFovDeg);
   command->add_option("--render", arguments->render, "none or gl (draw every frame with OSMesa and time it)")
       ->capture_default_str();
   command
@@ -430,23 +421,14 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   command->add_flag("--flat-out", arguments->flatOut,
                     "Frames back to back, not at 60 per second: background loads then lag further behind");
   command->add_option("--mode", arguments->mode, "error (tau) or budget (triangle budget)")->capture_default_str();
-  command->add_option("--budget", arguments->budget, "Triangles per frame in budget mode, dikes included")
-      ->check(numberIn(rules::kBudgetTriangles))
-      ->capture_default_str();
-  command->add_option("--alpha", arguments->alpha, "Attenuation exponent of the budget allocator")
-      ->check(numberIn(rules::kAlpha))
-      ->capture_default_str();
-  command->add_option("--altitude", arguments->altitudeM, "Metres above the ground")
-      ->check(numberIn(rules::kAltitudeM))
-      ->capture_default_str();
-  command->add_option("--speed", arguments->speedMps, "Metres per second")
-      ->check(numberIn(rules::kSpeedMps))
-      ->capture_default_str();
+  addNumberOption(*command, "--budget", arguments->budget, "Triangles per frame in budget mode, dikes included",
+                  rules::kBudgetTriangles);
+  addNumberOption(*command, "--alpha", arguments->alpha, "Attenuation exponent of the budget allocator", rules::kAlpha);
+  addNumberOption(*command, "--altitude", arguments->altitudeM, "Metres above the ground", rules::kAltitudeM);
+  addNumberOption(*command, "--speed", arguments->speedMps, "Metres per second", rules::kSpeedMps);
   command->add_option("--block", arguments->blockSamples, "Block size in samples: 17, 33, 65 or 129")
       ->capture_default_str();
-  command->add_option("--cache-mb", arguments->cacheMb, "LOD cache budget in MiB")
-      ->check(numberIn(rules::kCacheMb))
-      ->capture_default_str();
+  addNumberOption(*command, "--cache-mb", arguments->cacheMb, "LOD cache budget in MiB", rules::kCacheMb);
   command->add_option("--json", arguments->json, "Write the report here");
   command->add_option("--scene", arguments->scene,
                       "Run a scene file (terrain and mesh objects, docs/scene_format.md) instead of a DEM flight");

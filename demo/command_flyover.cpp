@@ -275,27 +275,18 @@ void addFlyoverCommand(CLI::App& app, int& exitCode) {
   CLI::App* command = app.add_subcommand("flyover", "Fly over a DEM in a window, or render the flight to PNG frames");
   addDemArguments(*command, arguments->dem);
   command->add_flag("--headless", arguments->headless, "Render frames with OSMesa instead of opening a window");
-  command->add_option("--frames", arguments->frames, "Frames to render headless")
-      ->check(numberIn(rules::kFrames))
-      ->capture_default_str();
+  addNumberOption(*command, "--frames", arguments->frames, "Frames to render headless", rules::kFrames);
   command->add_option("--fps", arguments->fps, "Frames per second of flight time (default: spread over one loop)")
       ->check(numberIn(rules::kFps));
   command->add_option("--out", arguments->out, "Folder for the PNG frames")->capture_default_str();
   command->add_option("--size", arguments->size, "Image or window size WxH")->capture_default_str();
-  command->add_option("--fov", arguments->fovDeg, "Vertical field of view in degrees")
-      ->check(numberIn(rules::kFovDeg))
-      ->capture_default_str();
-  command->add_option("--tau", arguments->tauPx, "Screen-space error tolerance of the LOD mesh, pixels")
-      ->check(numberIn(rules::kTauPx))
-      ->capture_default_str();
+  addNumberOption(*command, "--fov", arguments->fovDeg, "Vertical field of view in degrees", rules::kFovDeg);
+  addNumberOption(*command, "--tau", arguments->tauPx, "Screen-space error tolerance of the LOD mesh, pixels",
+                  rules::kTauPx);
   command->add_flag("--full-res", arguments->fullResolution, "Draw every sample instead of the LOD mesh");
   command->add_option("--debug", arguments->debug, "Colouring: lod (blocks by quadtree level), dikes, wire");
-  command->add_option("--altitude", arguments->flight.altitudeM, "Metres above the ground")
-      ->check(numberIn(rules::kAltitudeM))
-      ->capture_default_str();
-  command->add_option("--speed", arguments->flight.speedMps, "Metres per second")
-      ->check(numberIn(rules::kSpeedMps))
-      ->capture_default_str();
+  addNumberOption(*command, "--altitude", arguments->flight.altitudeM, "Metres above the ground", rules::kAltitudeM);
+  addNumberOption(*command, "--speed", arguments->flight.speedMps, "Metres per second", rules::kSpeedMps);
   command->callback([arguments, &exitCode] { exitCode = runFlyover(*arguments); });
 }
 

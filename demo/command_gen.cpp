@@ -129,12 +129,8 @@ void addGenCommand(CLI::App& app, int& exitCode) {
                        " synthesised detail over an eroded base, written as it is made (.tif only)")
       ->check(numberIn(NumberRule{2.0, double(terrain::kMaxStreamedGeneratorSize), true, false, "samples"}))
       ->capture_default_str();
-  command->add_option("--seed", arguments->generator.seed, "Random seed (same seed, same terrain)")
-      ->check(numberIn(rules::kSeed))
-      ->capture_default_str();
-  command->add_option("--spacing", arguments->generator.spacingM, "Sample spacing in metres")
-      ->check(numberIn(rules::kSpacingM))
-      ->capture_default_str();
+  addNumberOption(*command, "--seed", arguments->generator.seed, "Random seed (same seed, same terrain)", rules::kSeed);
+  addNumberOption(*command, "--spacing", arguments->generator.spacingM, "Sample spacing in metres", rules::kSpacingM);
   command->add_option("--out", arguments->out, "Output file: .png (16-bit) or .tif (32-bit float)")->required();
   command->callback([arguments, &exitCode] { exitCode = runGen(*arguments); });
 }

@@ -74,9 +74,7 @@ void addPrepCommand(CLI::App& app, int& exitCode) {
   addDemArguments(*command, arguments->dem);
   command->add_option("--out", arguments->out, "The pyramid file to write (replaced only when complete)")->required();
   command->add_option("--block", arguments->block, "Block size in samples, 2^k + 1")->capture_default_str();
-  command->add_option("--threads", arguments->threads, "Worker threads (0: all)")
-      ->check(numberIn(rules::kThreads))
-      ->capture_default_str();
+  addNumberOption(*command, "--threads", arguments->threads, "Worker threads (0: all)", rules::kThreads);
   command->callback([arguments, &exitCode] { exitCode = runPrep(*arguments); });
 }
 

@@ -106,9 +106,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   addDemArguments(*command, arguments->dem);
   command->add_option("--camera", arguments->camera, "X,Y,Z,YAW,PITCH: metres and degrees (yaw clockwise from north)")
       ->required();
-  command->add_option("--fov", arguments->fovDeg, "Vertical field of view in degrees")
-      ->check(numberIn(rules::kFovDeg))
-      ->capture_default_str();
+  addNumberOption(*command, "--fov", arguments->fovDeg, "Vertical field of view in degrees", rules::kFovDeg);
   command->add_option("--size", arguments->size, "Image size WxH")->capture_default_str();
   command->add_option("--out", arguments->out, "Output PNG")->required();
   command->add_flag("--reference", arguments->reference, "Ray cast with Embree instead of rasterising with OpenGL");

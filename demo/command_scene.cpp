@@ -263,9 +263,7 @@ void addSceneCommand(CLI::App& app, int& exitCode) {
   command->add_option("--frames", arguments->frames, "Frames to run (default: the scene's)")
       ->check(numberIn(rules::kFrames));
   command->add_option("--out", arguments->out, "Render frames headless (OSMesa) into this folder as PNG");
-  command->add_option("--every", arguments->every, "Render every Nth frame")
-      ->check(numberIn(rules::kEvery))
-      ->capture_default_str();
+  addNumberOption(*command, "--every", arguments->every, "Render every Nth frame", rules::kEvery);
   command->add_flag("--window", arguments->window, "Show the scene in a window in real time (Escape quits)");
   command->callback([arguments, &exitCode] { exitCode = runSceneCommand(*arguments); });
 }

@@ -61,4 +61,11 @@ Result<double> checkNumber(std::string_view text, const NumberRule& rule, std::s
 // A CLI11 check for an option: its message is checkNumber's.
 CLI::Validator numberIn(const NumberRule& rule);
 
+// An option holding a quantity: checked by its rule, its default shown in --help.
+template <typename T>
+CLI::Option* addNumberOption(CLI::App& command, const std::string& name, T& value, const std::string& description,
+                             const NumberRule& rule) {
+  return command.add_option(name, value, description)->check(numberIn(rule))->capture_default_str();
+}
+
 }  // namespace polder::cli

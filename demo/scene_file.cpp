@@ -30,16 +30,19 @@ struct SceneReader {
   }
 };
 
+// Whether a JSON value is a number that keeps the rule.
+bool isNumberIn(const json& value, const NumberRule& rule) {
+  return value.is_number() && bool(checkNumber(value.get<double>(), rule, ""));
+}
+
 // value[key] under the rule the command line applies to the same quantity; `fallback` when
 // the key is absent.
 Result<double> numberOf(const SceneReader& reader, const json& value, const char* key, double fallback,
                         const NumberRule& rule, const std::string& where) {
   const std::string at = where.empty() ? std::string(key) : where + "." + key;
   if (!value.is_object() || !value.contains(key)) return fallback;
-  if (!value[key].is_number()) return reader.error(at, "must be " + describe(rule));
-  auto checked = checkNumber(value[key].get<double>(), rule, "");
-  if (!checked) return reader.error(at, "must be " + describe(rule));
-  return *checked;
+  if (!isNumberIn(value[key], rule)) return reader.error(at, "must be " + describe(rule));
+  return value[key].get<double>();
 }
 
 Result<glm::dvec3> vec3Of(const SceneReader& reader, const json& value, const std::string& where) {
@@ -164,8 +167,8 @@ Result<scene::DemDescription> demOf(const SceneReader& reader, const json& value
   if (value.contains("crop")) {
     const json& crop = value["crop"];
     constexpr NumberRule kCropSamples{2.0, 2147483647.0, true, false, "samples"};
-    if (!crop.is_array() || crop.size() != 2 || !crop[0].is_number() || !crop[1].is_number() ||
-        !checkNumber(crop[0].get<double>(), kCropSamples, "") || !checkNumber(crop[1].get<double>(), kCropSamples, ""))
+    if (!crop.is_array() || crop.size() != 2 || !isNumberIn(crop[0], kCropSamples) ||
+        !isNumberIn(crop[1], kCropSamples))
       return reader.error(where + ".crop", "expected [width, height], each " + describe(kCropSamples));
     dem.cropSamples = glm::ivec2(crop[0].get<int>(), crop[1].get<int>());
   }
@@ -193,14 +196,11 @@ Result<scene::ModelDescription> modelOf(const SceneReader& reader, const std::st
   if (value.contains("regions")) {
     const json& regions = value["regions"];
     constexpr NumberRule kGridCells{1.0, 1000.0, true, false, ""};
-    const auto within = [](const json& n, const NumberRule& rule) {
-      return n.is_number() && bool(checkNumber(n.get<double>(), rule, ""));
-    };
-    if (within(regions, rules::kRegions)) {
+    if (isNumberIn(regions, rules::kRegions)) {
       model.regions.kind = scene::RegionsDescription::Kind::Automatic;
       model.regions.count = regions.get<std::uint32_t>();
-    } else if (regions.is_array() && regions.size() == 2 && within(regions[0], kGridCells) &&
-               within(regions[1], kGridCells)) {
+    } else if (regions.is_array() && regions.size() == 2 && isNumberIn(regions[0], kGridCells) &&
+               isNumberIn(regions[1], kGridCells)) {
       model.regions.kind = scene::RegionsDescription::Kind::Grid;
       model.regions.gridX = regions[0].get<std::uint32_t>();
       model.regions.gridY = regions[1].get<std::uint32_t>();
@@ -286,10 +286,8 @@ Status cameraOf(const SceneReader& reader, const json& root, scene::SceneDescrip
   lens.fovYDeg = *fov;
   if (camera.contains("pose")) {
     const json& pose = camera["pose"];
-    const auto finite = [](const json& n) {
-      return n.is_number() && bool(checkNumber(n.get<double>(), rules::kCoordinateM, ""));
-    };
-    if (!pose.is_array() || pose.size() != 5 || !std::all_of(pose.begin(), pose.end(), finite))
+    const auto coordinate = [](const json& n) { return isNumberIn(n, rules::kCoordinateM); };
+    if (!pose.is_array() || pose.size() != 5 || !std::all_of(pose.begin(), pose.end(), coordinate))
       return reader.error("camera.pose", "expected [x, y, z, yaw, pitch], each " + describe(rules::kCoordinateM));
     if (!checkNumber(pose[4].get<double>(), rules::kPitchDeg, ""))
       return reader.error("camera.pose", "the pitch must be " + describe(rules::kPitchDeg));

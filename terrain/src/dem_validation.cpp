@@ -70,8 +70,8 @@ Status checkRasterSize(std::uint64_t width, std::uint64_t height, std::uint64_t 
 
 Result<Dem> finishDem(Heightfield field, DemInfo info, const DemOptions& options,
                       std::optional<GroundSpacing> fileSpacing) {
-  if (Status size = checkRasterSize(std::uint64_t(field.width), std::uint64_t(field.height), 0, 0); !size)
-    return size.error();
+  if (Status spans = checkSpansGround(std::uint64_t(field.width), std::uint64_t(field.height)); !spans)
+    return spans.error();
   info.spacingAssumed = false;
   if (options.spacingM) {
     field.spacingX = field.spacingY = *options.spacingM;

@@ -74,7 +74,8 @@ TEST_P(BuilderProperties, EveryLevelIsClosedAndUsesActiveOriginalVertices) {
 }
 
 TEST_P(BuilderProperties, NoStepFlipsATriangle) {
-  for (const TriangleMesh& mesh : {test::bumpySphere(16, 20), test::bumpyGrid(24, 0.3f)}) {
+  // The bicone's two apexes of valence 300 take the builders' path for fans too large to scan.
+  for (const TriangleMesh& mesh : {test::bumpySphere(16, 20), test::bumpyGrid(24, 0.3f), test::bumpySphere(2, 300)}) {
     const ProgressiveMesh pm = progressive(mesh, singleRegion());
     const RegionSequence& seq = pm.region(0);
     ProgressiveMeshInstance instance(pm);
@@ -92,25 +93,17 @@ TEST_P(BuilderProperties, NoStepFlipsATriangle) {
   }
 }
 
-// Two apexes of valence 300 (one ring between the poles): the fans too large to scan go
-// through the builders' other path, with the same guarantees at every level.
-TEST_P(BuilderProperties, HighValenceApexesKeepEveryLevelClosedAndUnflipped) {
+// Two apexes of valence 300 (one ring between the poles): every level stays closed on the
+// builders' path for fans too large to scan (NoStepFlipsATriangle walks it too).
+TEST_P(BuilderProperties, HighValenceApexesKeepEveryLevelClosed) {
   const TriangleMesh bicone = test::bumpySphere(2, 300);
   const ProgressiveMesh pm = progressive(bicone, singleRegion());
   const RegionSequence& seq = pm.region(0);
   EXPECT_LE(seq.trianglesAt(0), 16u);
   ProgressiveMeshInstance instance(pm);
-  const auto& p = pm.vertices().positions;
   for (std::uint32_t level = seq.levelCount(); level > 0; --level) {
-    const std::vector<std::uint32_t> before(instance.indices(0).begin(), instance.indices(0).end());
     instance.setLevel(0, level - 1);
-    const auto after = instance.indices(0);
     for (const auto& [edge, count] : edgeUse(drawnIndices(instance))) ASSERT_EQ(count, 2) << "level " << level - 1;
-    for (std::size_t t = 0; t < after.size(); t += 3) {
-      if (std::equal(after.begin() + t, after.begin() + t + 3, before.begin() + t)) continue;
-      ASSERT_GT(glm::dot(triangleNormal(p, before, t), triangleNormal(p, after, t)), 0.0)
-          << "step to level " << level - 1 << " flips triangle " << t / 3;
-    }
   }
 }
 

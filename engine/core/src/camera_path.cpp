@@ -71,7 +71,7 @@ Result<CameraPath> CameraPath::readFile(const std::filesystem::path& file) {
   auto text = core::readFileContents(file, kMaxCameraPathFileBytes);
   if (!text) return makeError(text.error().kind, file.string() + ": " + text.error().message);
   auto path = parse(*text);
-  if (!path) return makeError(path.error().kind, file.string() + ": " + path.error().message);
+  if (!path) return makeError(ErrorKind::InvalidData, file.string() + ": " + path.error().message);
   return path;
 }
 

@@ -106,6 +106,12 @@ Result<FileHints> readFileHints(const std::filesystem::path& path, std::uint64_t
   return hints;
 }
 
+std::string readProblem(OIIO::ImageInput& input, bool succeeded) {
+  const std::string recorded = input.geterror();
+  if (succeeded && recorded.empty()) return {};
+  return oneLine(recorded.empty() ? "the decoder failed" : recorded);
+}
+
 Result<std::unique_ptr<OIIO::ImageInput>> openHeightImage(const std::filesystem::path& path) {
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // Terrain-RGB must not be premultiplied
@@ -162,12 +168,9 @@ Result<Dem> readImageDem(const std::filesystem::path& path, std::uint64_t fileLe
 
   const std::size_t samples = std::size_t(spec.width) * std::size_t(spec.height);
   std::vector<std::byte> pixels(samples * std::size_t(channels) * stored->request.size());
-  // Success with a recorded error is a corrupt strip decoded to garbage: refused too.
   const bool read = input->read_image(0, 0, 0, channels, stored->request, pixels.data());
-  const std::string problem = input->geterror();
-  if (!read || !problem.empty())
-    return makeError(ErrorKind::InvalidData,
-                     "cannot read the pixels: " + oneLine(problem.empty() ? "the decoder failed" : problem));
+  if (const std::string problem = readProblem(*input, read); !problem.empty())
+    return makeError(ErrorKind::InvalidData, "cannot read the pixels: " + problem);
   input->close();
 
   DemInfo info;

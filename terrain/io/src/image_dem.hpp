@@ -31,6 +31,11 @@ std::optional<StoredType> storedType(OIIO::TypeDesc type);
 // premultiplied). InvalidData when OpenImageIO cannot read it.
 Result<std::unique_ptr<OIIO::ImageInput>> openHeightImage(const std::filesystem::path& path);
 
+// Why a pixel read of `input` failed, as one line, or empty when it did not. A read that
+// reports success may still have met a decoder error (a corrupt strip): OpenImageIO then only
+// records it, and the pixels hold whatever was decoded, so that counts as a failure too.
+std::string readProblem(OIIO::ImageInput& input, bool succeeded);
+
 // Which samples of an image hold the heights: the type to read them as, and either the R, G,
 // B(, A) channels of an 8-bit image holding Terrain-RGB or Terrarium (rgb: `encoding` Auto
 // until detected from the pixels) or the first channel alone.

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "image_dem.hpp"
 #include "io_text.hpp"
 
 namespace polder::terrain::io {
@@ -107,14 +108,11 @@ class ImageRows final : public StoredRows {
                    y0, y1);
   }
 
-  // A read that reports success may still have met a decoder error (a corrupt strip):
-  // OpenImageIO then only records it, and the rows hold whatever was decoded.
   Status checked(bool succeeded, int y0, int y1) {
-    const std::string problem = m_input->geterror();
-    if (succeeded && problem.empty()) return {};
-    return makeError(ErrorKind::InvalidData,
-                     "cannot read the pixels of rows " + std::to_string(y0) + ".." + std::to_string(y1 - 1) +
-                         " from the north: " + oneLine(problem.empty() ? "the decoder failed" : problem));
+    const std::string problem = readProblem(*m_input, succeeded);
+    if (problem.empty()) return {};
+    return makeError(ErrorKind::InvalidData, "cannot read the pixels of rows " + std::to_string(y0) + ".." +
+                                                 std::to_string(y1 - 1) + " from the north: " + problem);
   }
 
   std::unique_ptr<OIIO::ImageInput> m_input;

@@ -45,7 +45,8 @@ class CameraPath {
   // Text: one pose per line, "t x y z yaw pitch" (seconds, metres, degrees); '#' starts a
   // comment. Errors name the line.
   static Result<CameraPath> parse(std::string_view text);
-  // parse() on a file's text; errors start with the file's name.
+  // parse() on a file's text; errors start with the file's name, and what parse() refuses
+  // is InvalidData here: a file's contents are data, not arguments.
   static Result<CameraPath> readFile(const std::filesystem::path& file);
 
   CameraPose at(double timeS) const;
