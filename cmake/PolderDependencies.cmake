@@ -55,7 +55,8 @@ polder_component(terrain_draw IF POLDER_WITH_GL)
 polder_component(engine)
 
 # The programs: the demo, the tests and the benchmarks.
-if(POLDER_BUILD_DEMO)
+# The scene file's fuzz target compiles the program's reader, so fuzzing needs CLI11 too.
+if(POLDER_BUILD_DEMO OR POLDER_FUZZ)
   find_package(CLI11 CONFIG REQUIRED)
   find_package(nlohmann_json 3 CONFIG REQUIRED)
 endif()

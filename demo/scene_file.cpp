@@ -360,13 +360,11 @@ Result<scene::SceneDescription> describe(const SceneReader& reader, const json& 
 // A scene file describes, it does not hold data: far more than any hand-written scene.
 constexpr std::uint64_t kMaxSceneFileBytes = 16 << 20;
 
-Result<scene::SceneDescription> readSceneFile(const std::filesystem::path& file) {
+Result<scene::SceneDescription> parseSceneText(std::string_view text, const std::filesystem::path& file) {
   SceneReader reader{file, file.parent_path()};
-  auto text = core::readFileContents(file, kMaxSceneFileBytes);
-  if (!text) return makeError(text.error().kind, file.string() + ": " + text.error().message);
   json root;
   try {
-    root = json::parse(*text);
+    root = json::parse(text);
   } catch (const json::exception& e) {
     return makeError(ErrorKind::InvalidData, file.string() + ": not valid JSON (" + e.what() + ")");
   }
@@ -376,6 +374,12 @@ Result<scene::SceneDescription> readSceneFile(const std::filesystem::path& file)
   } catch (const json::exception& e) {
     return makeError(ErrorKind::InvalidData, file.string() + ": a value has the wrong type (" + e.what() + ")");
   }
+}
+
+Result<scene::SceneDescription> readSceneFile(const std::filesystem::path& file) {
+  auto text = core::readFileContents(file, kMaxSceneFileBytes);
+  if (!text) return makeError(text.error().kind, file.string() + ": " + text.error().message);
+  return parseSceneText(*text, file);
 }
 
 Result<scene::BuiltScene> loadSceneFile(const std::filesystem::path& file) {
