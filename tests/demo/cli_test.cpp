@@ -300,6 +300,33 @@ TEST_F(PolderProgram, BenchWritesTheDocumentedReport) {
   EXPECT_GT(report["cpu_ms"]["total"]["median"].get<double>(), 0.0);
 }
 
+// End to end, the bench is an instrument that can fail: exit 0 here means the measured
+// frames stayed within tau, and in budget mode every frame ended within 0.9P..P.
+TEST_F(PolderProgram, BenchHoldsTauInErrorModeAndTheBudgetInBudgetMode) {
+  const std::string errorJson = s_dir->file("bench_error.json").string();
+  ProgramRun run =
+      runPolder("bench " + dem() + " --frames 30 --measure-every 5 --size 200x150 --altitude 300 --json " + errorJson);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  {
+    std::ifstream in(errorJson);
+    const auto report = nlohmann::json::parse(in);
+    EXPECT_EQ(report["screen_error_px"]["frames_measured"], 6);
+    EXPECT_LE(report["screen_error_px"]["max"].get<double>(), report["screen_error_px"]["tau"].get<double>());
+    EXPECT_GT(report["screen_error_px"]["max"].get<double>(), 0.0);
+    EXPECT_TRUE(report["triangles"]["frames_within_budget"].is_null());
+  }
+  const std::string budgetJson = s_dir->file("bench_budget.json").string();
+  run = runPolder("bench " + dem() + " --frames 30 --measure-every 10 --size 200x150 --altitude 300 --mode budget " +
+                  "--budget 5000 --json " + budgetJson);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  std::ifstream in(budgetJson);
+  const auto report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["triangles"]["frames_within_budget"], 30);
+  EXPECT_EQ(report["triangles"]["frames_over_budget"], 0);
+  EXPECT_LE(report["triangles"]["max"].get<double>(), 5000.0);
+  EXPECT_GE(report["triangles"]["min"].get<double>(), 4500.0);
+}
+
 TEST_F(PolderProgram, BenchRejectsBadArguments) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--tau 0", "--tau"},

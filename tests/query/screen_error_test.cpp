@@ -72,5 +72,122 @@ TEST(ScreenError, AVerticalOffsetMeasuresItsProjectedLength) {
   EXPECT_LE(error.p99Px, error.maxPx);
 }
 
+// An independent pinhole model of the camera: the eye frame from forward/right/up and the
+// tangent of half the vertical field of view, without the library's matrices.
+glm::dvec2 pinholePixel(const Camera& camera, const glm::dvec3& point) {
+  const glm::dvec3 d = point - camera.position;
+  const double tanHalf = std::tan(0.5 * camera.fovYDeg * std::acos(-1.0) / 180.0);
+  const double aspect = double(camera.widthPx) / double(camera.heightPx);
+  const double depth = glm::dot(d, camera.forward());
+  const double ndcX = glm::dot(d, camera.right()) / (depth * tanHalf * aspect);
+  const double ndcY = glm::dot(d, camera.up()) / (depth * tanHalf);
+  return {(ndcX * 0.5 + 0.5) * camera.widthPx, (0.5 - ndcY * 0.5) * camera.heightPx};
+}
+
+// The plane z = base + slopeX x + slopeY y over [0, extent]^2, as two triangles.
+struct Plane {
+  double base = 0.0, slopeX = 0.0, slopeY = 0.0, extent = 0.0;
+  double at(double x, double y) const { return base + slopeX * x + slopeY * y; }
+  std::vector<MeshData> mesh() const {
+    MeshData out;
+    for (double y : {0.0, extent})
+      for (double x : {0.0, extent}) out.positions.push_back(glm::vec3(float(x), float(y), float(at(x, y))));
+    out.indices = {0, 1, 2, 3, 2, 1};
+    return {out};
+  }
+};
+
+struct OracleError {
+  double maxPx = 0.0, meanPx = 0.0, minPx = 1e300;
+  std::size_t pixels = 0;
+};
+
+// Per pixel, in closed form: where the pixel's ray meets the drawn plane, and how far on
+// screen that point lies from the true ground z = 0 below it.
+OracleError oracleAgainstFlatGround(const Plane& drawn, const Camera& camera) {
+  OracleError out;
+  double sum = 0.0;
+  const glm::dvec3 normal = glm::normalize(glm::dvec3(-drawn.slopeX, -drawn.slopeY, 1.0));
+  const glm::dvec3 onPlane(0.0, 0.0, drawn.base);
+  for (int row = 0; row < camera.heightPx; ++row)
+    for (int column = 0; column < camera.widthPx; ++column) {
+      const glm::dvec3 dir = camera.pixelRay(column + 0.5, row + 0.5);
+      const double facing = glm::dot(dir, normal);
+      if (std::abs(facing) < 1e-12) continue;
+      const double t = glm::dot(onPlane - camera.position, normal) / facing;
+      if (t < camera.nearM || t > camera.farM) continue;
+      const glm::dvec3 hit = camera.position + t * dir;
+      // Keep clear of the rim, where a ray may graze past the last triangle's edge.
+      const double margin = 1.0;
+      if (hit.x < margin || hit.y < margin || hit.x > drawn.extent - margin || hit.y > drawn.extent - margin) continue;
+      const double e = glm::length(pinholePixel(camera, hit) - pinholePixel(camera, {hit.x, hit.y, 0.0}));
+      out.maxPx = std::max(out.maxPx, e);
+      out.minPx = std::min(out.minPx, e);
+      sum += e;
+      ++out.pixels;
+    }
+  if (out.pixels > 0) out.meanPx = sum / double(out.pixels);
+  return out;
+}
+
+// Flat ground at z = 0 over [0, extent]^2.
+terrain::Heightfield flatGround(double extent) {
+  const int samples = 65;
+  terrain::Heightfield field(samples, samples, extent / (samples - 1), extent / (samples - 1));
+  for (float& h : field.heights) h = 0.0f;
+  return field;
+}
+
+Camera cameraOverPlane(double extent) {
+  Camera camera;
+  camera.widthPx = 240;
+  camera.heightPx = 160;
+  camera.fovYDeg = 45.0;
+  camera.position = {0.5 * extent, -0.2 * extent, 0.25 * extent};
+  camera.yawDeg = 0.0;
+  camera.pitchDeg = -30.0;
+  camera.nearM = 0.5;
+  camera.farM = 1e5;
+  return camera;
+}
+
+void expectMatchesOracle(const Plane& drawn) {
+  const Camera camera = cameraOverPlane(drawn.extent);
+  auto truth = QueryScene::create(flatGround(drawn.extent));
+  auto lod = QueryScene::createFromMeshes(drawn.mesh());
+  ASSERT_TRUE(truth.ok() && lod.ok());
+  const OracleError oracle = oracleAgainstFlatGround(drawn, camera);
+  const ScreenError measured = measureScreenError(**lod, **truth, camera);
+  ASSERT_GT(oracle.pixels, 10000u);
+  EXPECT_NEAR(double(measured.pixelsMeasured), double(oracle.pixels), 0.01 * double(oracle.pixels));
+  EXPECT_NEAR(measured.maxPx, oracle.maxPx, 0.01 * oracle.maxPx);
+  EXPECT_NEAR(measured.meanPx, oracle.meanPx, 0.01 * oracle.meanPx);
+}
+
+TEST(ScreenError, ALiftedPlaneMatchesTheAnalyticPerPixelOracle) {
+  expectMatchesOracle({.base = 3.0, .slopeX = 0.0, .slopeY = 0.0, .extent = 2000.0});
+}
+
+TEST(ScreenError, ATiltedPlaneMatchesTheAnalyticPerPixelOracle) {
+  // Lifted where the camera looks from, down to the ground far away: the error shrinks with
+  // distance both because the offset does and because the projection does.
+  expectMatchesOracle({.base = 12.0, .slopeX = 0.001, .slopeY = -0.005, .extent = 2000.0});
+}
+
+TEST(ScreenError, AMeshKnownToExceedTauReportsMoreThanTau) {
+  const double tau = 1.0;
+  const Plane drawn{.base = 40.0, .extent = 2000.0};
+  const Camera camera = cameraOverPlane(drawn.extent);
+  const OracleError oracle = oracleAgainstFlatGround(drawn, camera);
+  ASSERT_GT(oracle.minPx, tau) << "every pixel of this mesh must be off by more than tau";
+  auto truth = QueryScene::create(flatGround(drawn.extent));
+  auto lod = QueryScene::createFromMeshes(drawn.mesh());
+  ASSERT_TRUE(truth.ok() && lod.ok());
+  const ScreenError measured = measureScreenError(**lod, **truth, camera, {.pixelStride = 3});
+  EXPECT_GT(measured.maxPx, tau);
+  EXPECT_GT(measured.p99Px, tau);
+  EXPECT_GT(measured.meanPx, tau);
+}
+
 }  // namespace
 }  // namespace polder::query

@@ -26,6 +26,13 @@ std::optional<std::filesystem::path> sharedDataFile(const std::string& relative)
   return path;
 }
 
+bool sharedDataRequired() {
+  const char* ci = std::getenv("CI");
+  if (!ci || !*ci) return false;
+  const std::string value = ci;
+  return value != "0" && value != "false";
+}
+
 std::filesystem::path sourceDir() { return POLDER_SOURCE_DIR; }
 
 ScratchDir::ScratchDir() {

@@ -17,6 +17,10 @@ std::optional<std::filesystem::path> sharedDataDir();
 // The path of a file in the shared data folder, or nullopt when the folder or file is absent.
 std::optional<std::filesystem::path> sharedDataFile(const std::string& relative);
 
+// Whether a missing shared data file is a failure rather than a skip: under CI (the CI
+// variable set and not "false" or "0"), where the shared data folder is always laid out.
+bool sharedDataRequired();
+
 // The repository's top folder (for data/ and shaders/).
 std::filesystem::path sourceDir();
 
@@ -39,10 +43,13 @@ void writeFile(const std::filesystem::path& path, const std::string& bytes);
 
 }  // namespace polder::test
 
-// Skips the current test with a message naming the missing shared file.
-#define POLDER_REQUIRE_SHARED_FILE(var, relative)                                   \
-  const auto var##_optional = ::polder::test::sharedDataFile(relative);             \
-  if (!var##_optional)                                                              \
-    GTEST_SKIP() << "shared data file " << (relative)                               \
-                 << " is absent (shared data folder or $POLDER_DATA_DIR); skipped"; \
+// Skips the current test with a message naming the missing shared file (fails under CI).
+#define POLDER_REQUIRE_SHARED_FILE(var, relative)                                              \
+  const auto var##_optional = ::polder::test::sharedDataFile(relative);                        \
+  if (!var##_optional && ::polder::test::sharedDataRequired())                                 \
+    GTEST_FAIL() << "shared data file " << (relative)                                          \
+                 << " is absent (shared data folder or $POLDER_DATA_DIR), and CI requires it"; \
+  if (!var##_optional)                                                                         \
+    GTEST_SKIP() << "shared data file " << (relative)                                          \
+                 << " is absent (shared data folder or $POLDER_DATA_DIR); skipped";            \
   const std::filesystem::path var = *var##_optional

@@ -274,10 +274,10 @@ struct TerrainEngine::Impl {
     return glm::length(glm::clamp(camera.position, box.minCorner, box.maxCorner) - camera.position);
   }
 
-  // Adds nodes to split (dike_check.hpp); true when one is new. Each is kept until the camera
-  // is twice as far from it as when it was added.
-  bool forceSplits(std::span<const terrain::NodeId> nodes, const Camera& camera) {
-    bool added = false;
+  // Adds nodes to split (dike_check.hpp); returns how many are new. Each is kept until the
+  // camera is twice as far from it as when it was added.
+  std::size_t forceSplits(std::span<const terrain::NodeId> nodes, const Camera& camera) {
+    std::size_t added = 0;
     for (const terrain::NodeId& node : nodes) {
       if (std::find(forcedSplits.begin(), forcedSplits.end(), node) != forcedSplits.end()) continue;
       if (forcedSplits.size() == kMaxForcedSplits) {  // the oldest goes
@@ -286,7 +286,7 @@ struct TerrainEngine::Impl {
       }
       forcedSplits.push_back(node);
       forcedSplitDistances.push_back(distanceTo(node, camera));
-      added = true;
+      ++added;
     }
     return added;
   }
@@ -471,7 +471,10 @@ const TerrainFrame& TerrainEngine::finishFrame(const Camera& camera, std::uint64
       dikesMs += millisecondsSince(dikesStart);
       stats.dikeTrianglesOverTau = check.failing;
       stats.dikeErrorPx = check.worstPx;
-      if (pass == 4 || !s.forceSplits(s.dikeCheck.splits(), camera)) break;
+      if (pass == 4) break;
+      const std::size_t splits = s.forceSplits(s.dikeCheck.splits(), camera);
+      stats.dikeSplits += splits;
+      if (splits == 0) break;
       const auto selectStart = Clock::now();
       s.select(camera);
       stats.selectMs += millisecondsSince(selectStart);

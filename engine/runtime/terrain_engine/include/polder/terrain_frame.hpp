@@ -76,6 +76,8 @@ struct TerrainFrameStats {
   // bound, pixels) and how many drawn dike triangles stay over tau.
   double dikeErrorPx = 0.0;
   std::size_t dikeTrianglesOverTau = 0;
+  // Nodes this frame split where pins could not bring a coarse dike strip within tau.
+  std::size_t dikeSplits = 0;
   // False when no block of the cut changed, so the last frame's dikes were kept as they were.
   bool dikesStitched = false;
   // Piece lifetimes since the last frame, and the bytes of vertex and index data the created
