@@ -71,7 +71,7 @@ std::optional<FrameScreenError> frameScreenError(TerrainEngine& engine, const qu
   auto lodScene = query::QueryScene::createFromMeshes(engine.frameMeshes());
   if (!lodScene) return std::nullopt;
   const query::ScreenError error = query::measureScreenError(**lodScene, truth, camera);
-  return FrameScreenError{error.maxPx, error.p99Px};
+  return FrameScreenError{error.maxPx, error.p99Px, error.holePixels};
 }
 
 Result<CameraPath> makePath(const BenchArguments& arguments, const terrain::Heightfield& field,
@@ -95,10 +95,12 @@ Result<CameraPath> makePath(const BenchArguments& arguments, const terrain::Heig
 // The recorded pass: every frame drawn with `headless` (when given) and timed, every
 // --measure-every frames measured against `truth` and checked for watertightness.
 Result<FlightRecord> flyMeasured(FlightRecorder& recorder, const BenchArguments& arguments,
-                                 const query::QueryScene& truth, HeadlessRenderer* headless,
-                                 const TerrainStyle& style) {
+                                 const query::QueryScene& truth, HeadlessRenderer* headless, const TerrainStyle& style,
+                                 std::vector<RssSample>& rssSamples) {
   ProgressBar progress("flying");
   FlightHooks hooks;
+  if (arguments.measureEvery > 0) rssSamples.reserve(std::size_t(arguments.frames / arguments.measureEvery + 1));
+  hooks.afterCheck = [&rssSamples](int frameIndex) { rssSamples.push_back({frameIndex, currentRssMb()}); };
   hooks.progress = [&progress](float fraction) { progress.update(fraction); };
   hooks.measureError = [&truth](TerrainEngine& engine, const Camera& camera) {
     return frameScreenError(engine, truth, camera);
@@ -231,7 +233,8 @@ int runBench(BenchArguments arguments) {
   }
 
   FlightRecorder recorder(**engine, *path, lens);
-  auto flown = flyMeasured(recorder, arguments, **truth, headless ? &*headless : nullptr, style);
+  std::vector<RssSample> rssSamples;
+  auto flown = flyMeasured(recorder, arguments, **truth, headless ? &*headless : nullptr, style, rssSamples);
   if (!flown) return reportError(flown.error());
   const FlightRecord& cached = *flown;
   const FlightSummary summary = summarizeFlight(cached);
@@ -243,6 +246,10 @@ int runBench(BenchArguments arguments) {
   }
 
   const double fullResolution = double(terrain::fullResolutionTriangleCount(*field));
+  // Resident memory at the checked frames; the first tenth of the flight warms the caches up.
+  const int warmUpFrames = arguments.frames / 10;
+  nlohmann::json rssJson = nlohmann::json::array();
+  for (const RssSample& sample : rssSamples) rssJson.push_back({{"frame", sample.frame}, {"mb", sample.mb}});
   // Budget mode ends each frame within 0.9P..P; a frame over P breaks the budget.
   const bool budgetMode = arguments.mode == "budget";
   const double budget = double(arguments.budget);
@@ -311,7 +318,8 @@ int runBench(BenchArguments arguments) {
        {{"tau", arguments.tauPx},
         {"max", cached.errorMaxPx},
         {"p99", cached.errorP99Px},
-        {"frames_measured", cached.framesMeasured}}},
+        {"frames_measured", cached.framesMeasured},
+        {"hole_px", cached.holePixels}}},
       {"watertight",
        {{"frames_checked", cached.framesChecked},
         {"open_edges", cached.openEdges},
@@ -331,7 +339,11 @@ int runBench(BenchArguments arguments) {
          {{"max", cached.errorOnAncestorMaxPx},
           {"p99", cached.errorOnAncestorP99Px},
           {"frames_measured", cached.framesMeasuredOnAncestor}}}}},
-      {"memory", {{"peak_rss_mb", peakRssMb()}}},
+      {"memory",
+       {{"peak_rss_mb", peakRssMb()},
+        {"rss_mb_at_checks", rssJson},
+        {"warm_up_frames", warmUpFrames},
+        {"rss_drift_after_warm_up", rssDriftAfter(rssSamples, warmUpFrames)}}},
   };
   if (comparison) {
     report["compare_cache"] = {
@@ -375,8 +387,9 @@ int runBench(BenchArguments arguments) {
                 cached.cracks.crackPx, cached.cracks.enclosedBackgroundPx);
   std::printf("%-34s %.1f%% reused, %llu rebuilds\n", "LOD cache", 100.0 * summary.cacheReuseRate,
               static_cast<unsigned long long>(cached.cacheRebuilds));
-  std::printf("%-34s max %.3f px, p99 %.3f px over %d frames (tau %.2f)\n", "measured screen-space error",
-              cached.errorMaxPx, cached.errorP99Px, cached.framesMeasured, arguments.tauPx);
+  std::printf("%-34s max %.3f px, p99 %.3f px over %d frames (tau %.2f); %zu hole pixels\n",
+              "measured screen-space error", cached.errorMaxPx, cached.errorP99Px, cached.framesMeasured,
+              arguments.tauPx, cached.holePixels);
   if (cached.framesMeasuredOnAncestor > 0)
     std::printf("%-34s max %.3f px, p99 %.3f px over %d frames partly on ancestors\n", "", cached.errorOnAncestorMaxPx,
                 cached.errorOnAncestorP99Px, cached.framesMeasuredOnAncestor);
@@ -395,7 +408,8 @@ int runBench(BenchArguments arguments) {
     std::printf("%-34s lod %.1f%% faster, total %.1f%% faster, triangles x%.3f\n", "cache vs no cache",
                 100.0 * comparison->lodMsSavedFraction, 100.0 * comparison->totalMsSavedFraction,
                 comparison->trianglesRatio);
-  std::printf("%-34s %.0f MB\n", "peak memory", peakRssMb());
+  std::printf("%-34s %.0f MB; resident after warm-up varies by %.2f%% over %zu checks\n", "peak memory", peakRssMb(),
+              100.0 * rssDriftAfter(rssSamples, warmUpFrames), rssSamples.size());
 
   if (!arguments.json.empty()) {
     if (Status written = core::writeFileContents(arguments.json, report.dump(2) + "\n"); !written)
@@ -404,7 +418,9 @@ int runBench(BenchArguments arguments) {
   }
   const bool withinTau = cached.errorMaxPx <= arguments.tauPx || budgetMode;
   const bool withinBudget = framesOverBudget == 0;
-  return withinTau && withinBudget && cached.openEdges == 0 && cached.tJunctions == 0 ? 0 : kExitData;
+  return withinTau && withinBudget && cached.openEdges == 0 && cached.tJunctions == 0 && cached.holePixels == 0
+             ? 0
+             : kExitData;
 }
 
 }  // namespace

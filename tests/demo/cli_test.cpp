@@ -280,9 +280,9 @@ TEST_F(PolderProgram, BenchWritesTheDocumentedReport) {
       {"blocks", {"visible_mean", "culled_mean"}},
       {"lod_cache", {"reuse_rate", "rebuilds", "lookups"}},
       {"cpu_ms", {"select", "lod", "dikes", "total"}},
-      {"screen_error_px", {"tau", "max", "p99", "frames_measured"}},
+      {"screen_error_px", {"tau", "max", "p99", "frames_measured", "hole_px"}},
       {"watertight", {"frames_checked", "open_edges", "t_junctions"}},
-      {"memory", {"peak_rss_mb"}},
+      {"memory", {"peak_rss_mb", "rss_mb_at_checks", "warm_up_frames", "rss_drift_after_warm_up"}},
       {"compare_cache", {"lod_ms_saved_frac", "total_ms_saved_frac", "triangles_ratio"}},
   };
   for (const auto& [section, names] : keys) {
@@ -292,6 +292,9 @@ TEST_F(PolderProgram, BenchWritesTheDocumentedReport) {
   EXPECT_TRUE(report.contains("render_ms"));
   EXPECT_EQ(report["config"]["frames"], 40);
   EXPECT_EQ(report["watertight"]["frames_checked"], 4);
+  ASSERT_EQ(report["memory"]["rss_mb_at_checks"].size(), 4u);
+  EXPECT_EQ(report["memory"]["rss_mb_at_checks"][1]["frame"], 10);
+  EXPECT_GT(report["memory"]["rss_mb_at_checks"][1]["mb"].get<double>(), 1.0);
   EXPECT_EQ(report["watertight"]["open_edges"], 0);
   EXPECT_EQ(report["watertight"]["t_junctions"], 0);
   EXPECT_GT(report["triangles"]["mean"].get<double>(), 0.0);
@@ -313,6 +316,7 @@ TEST_F(PolderProgram, BenchHoldsTauInErrorModeAndTheBudgetInBudgetMode) {
     EXPECT_EQ(report["screen_error_px"]["frames_measured"], 6);
     EXPECT_LE(report["screen_error_px"]["max"].get<double>(), report["screen_error_px"]["tau"].get<double>());
     EXPECT_GT(report["screen_error_px"]["max"].get<double>(), 0.0);
+    EXPECT_EQ(report["screen_error_px"]["hole_px"], 0);
     EXPECT_TRUE(report["triangles"]["frames_within_budget"].is_null());
   }
   const std::string budgetJson = s_dir->file("bench_budget.json").string();

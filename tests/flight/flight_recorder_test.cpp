@@ -118,14 +118,18 @@ TEST_F(FlightRecorderTest, ChecksAndMeasuresEveryNthFrame) {
   hooks.measureError = [&](TerrainEngine&, const Camera&) -> std::optional<FrameScreenError> {
     measuredAt.push_back(frame);
     if (frame == 4) return std::nullopt;  // could not measure this one: checked, not measured
-    return FrameScreenError{0.25 * (frame + 1), 0.1 * (frame + 1)};
+    return FrameScreenError{0.25 * (frame + 1), 0.1 * (frame + 1), std::size_t(frame)};
   };
+  std::vector<int> afterCheckAt;
+  hooks.afterCheck = [&](int frameIndex) { afterCheckAt.push_back(frameIndex); };
   FlightOptions options;
   options.frames = 10;
   options.checkEvery = 4;
   auto record = recorder.fly(options, hooks);
   ASSERT_TRUE(record.ok());
   EXPECT_EQ(measuredAt, (std::vector<int>{0, 4, 8}));
+  EXPECT_EQ(afterCheckAt, (std::vector<int>{0, 4, 8}));
+  EXPECT_EQ(record->holePixels, 8u) << "hole pixels add up over the measured frames";
   EXPECT_EQ(record->framesChecked, 3);
   EXPECT_EQ(record->framesMeasured, 2);
   EXPECT_DOUBLE_EQ(record->errorMaxPx, 0.25 * 9);
@@ -136,9 +140,11 @@ TEST_F(FlightRecorderTest, ChecksAndMeasuresEveryNthFrame) {
 
   options.checkEvery = 0;  // never
   measuredAt.clear();
+  afterCheckAt.clear();
   auto unchecked = recorder.fly(options, hooks);
   ASSERT_TRUE(unchecked.ok());
   EXPECT_TRUE(measuredAt.empty());
+  EXPECT_TRUE(afterCheckAt.empty());
   EXPECT_EQ(unchecked->framesChecked, 0);
 }
 

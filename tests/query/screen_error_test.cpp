@@ -189,5 +189,32 @@ TEST(ScreenError, AMeshKnownToExceedTauReportsMoreThanTau) {
   EXPECT_GT(measured.meanPx, tau);
 }
 
+TEST(ScreenError, AGapInTheMeshCountsAsHolesAndTheWholeMeshHasNone) {
+  const auto field = hills();
+  auto truth = QueryScene::create(field);
+  std::vector<MeshData> whole = surfaceMeshes(field, 0.0f);
+  std::vector<MeshData> holed = whole;
+  // Drop the triangles of a 25 x 25 cell square in the middle of the view.
+  std::vector<std::uint32_t> kept;
+  auto& indices = holed[0].indices;
+  for (std::size_t t = 0; t < indices.size(); t += 3) {
+    const glm::vec3 p = holed[0].positions[indices[t]];
+    const bool inGap = p.x > 1000.0f && p.x < 1500.0f && p.y > 300.0f && p.y < 800.0f;
+    if (!inGap) kept.insert(kept.end(), indices.begin() + std::ptrdiff_t(t), indices.begin() + std::ptrdiff_t(t + 3));
+  }
+  ASSERT_LT(kept.size(), indices.size());
+  indices = kept;
+  auto wholeScene = QueryScene::createFromMeshes(whole);
+  auto holedScene = QueryScene::createFromMeshes(holed);
+  ASSERT_TRUE(truth.ok() && wholeScene.ok() && holedScene.ok());
+  const Camera camera = obliqueCamera();
+  EXPECT_EQ(measureScreenError(**wholeScene, **truth, camera).holePixels, 0u);
+  const ScreenError holedError = measureScreenError(**holedScene, **truth, camera);
+  const ScreenError wholeError = measureScreenError(**wholeScene, **truth, camera);
+  // Most of the pixels the gap took are holes (a few at its far rim see the sky beyond).
+  EXPECT_GT(holedError.holePixels, (wholeError.pixelsMeasured - holedError.pixelsMeasured) / 2);
+  EXPECT_GT(holedError.holePixels, 200u);
+}
+
 }  // namespace
 }  // namespace polder::query

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include <polder/thread_pool.hpp>
@@ -31,6 +32,8 @@ ScreenError measureScreenError(const QueryScene& lodMesh, const QueryScene& trut
   // Errors per row, gathered afterwards in row order, so that no figure depends on which
   // thread measured which rows.
   std::vector<std::vector<double>> errors(static_cast<std::size_t>(std::max(rows, 0)));
+  // Per sampled pixel: 1 where its ray met the LOD mesh from above, 2 from below (for the holes).
+  std::vector<std::uint8_t> hitLod(std::size_t(std::max(rows, 0)) * std::size_t(std::max(columns, 0)), 0);
   auto measureRows = [&](std::size_t rowBegin, std::size_t rowEnd) {
     std::vector<QueryRay> rays(static_cast<std::size_t>(columns));
     std::vector<std::optional<RayHit>> hits(static_cast<std::size_t>(columns));
@@ -42,8 +45,11 @@ ScreenError measureScreenError(const QueryScene& lodMesh, const QueryScene& trut
         rays[std::size_t(column)] = QueryRay{camera.position, camera.pixelRay(px, py), camera.nearM, camera.farM};
       }
       lodMesh.raycastMany(rays, hits, RayCoherence::Coherent);
-      for (const auto& hit : hits) {
+      for (int column = 0; column < columns; ++column) {
+        const auto& hit = hits[std::size_t(column)];
         if (!hit) continue;
+        // RayHit::normal faces against the ray; terrain triangles face up.
+        hitLod[std::size_t(row) * std::size_t(columns) + std::size_t(column)] = hit->normal.z > 0.0 ? 1 : 2;
         const auto trueHeight = truth.height(hit->point.x, hit->point.y);
         if (!trueHeight) continue;
         const auto drawn = project(viewProjection, camera, hit->point);
@@ -55,9 +61,29 @@ ScreenError measureScreenError(const QueryScene& lodMesh, const QueryScene& trut
   };
   core::ThreadPool(options.threads).forRanges(errors.size(), kRowsPerTask, measureRows);
 
+  ScreenError result;
+  auto hitAt = [&](int row, int column) {
+    return hitLod[std::size_t(row) * std::size_t(columns) + std::size_t(column)];
+  };
+  for (int column = 0; column < columns; ++column) {
+    // Misses between the column's first and last hit are enclosed by the mesh.
+    int first = rows, last = -1;
+    for (int row = 0; row < rows; ++row)
+      if (hitAt(row, column)) first = std::min(first, row), last = row;
+    for (int row = 0; row < rows; ++row) {
+      if (hitAt(row, column) == 2) {
+        ++result.holePixels;
+        continue;
+      }
+      if (hitAt(row, column) || row < first || row > last) continue;
+      const QueryRay ray{camera.position, camera.pixelRay(column * stride + 0.5, row * stride + 0.5), camera.nearM,
+                         camera.farM};
+      if (truth.raycast(ray)) ++result.holePixels;
+    }
+  }
+
   std::vector<double> all;
   for (auto& band : errors) all.insert(all.end(), band.begin(), band.end());
-  ScreenError result;
   result.pixelsMeasured = all.size();
   if (all.empty()) return result;
   double sum = 0.0;

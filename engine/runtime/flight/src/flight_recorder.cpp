@@ -7,14 +7,20 @@
 namespace polder {
 namespace {
 
+// Reserves the per-frame series and touches their pages, so that a long flight's resident
+// memory measures the engine rather than the record filling up.
 void reserveFrames(FlightRecord& record, std::size_t frames, bool drawn) {
+  auto reserve = [frames](std::vector<double>& series) {
+    series.resize(frames);
+    series.clear();
+  };
   for (std::vector<double>* series :
        {&record.selectMs, &record.lodMs, &record.dikesMs, &record.piecesMs, &record.totalMs, &record.triangles,
         &record.dikeTriangles, &record.visibleBlocks, &record.culledBlocks})
-    series->reserve(frames);
+    reserve(*series);
   if (drawn) {
-    record.renderMs.reserve(frames);
-    record.uploadBytes.reserve(frames);
+    reserve(record.renderMs);
+    reserve(record.uploadBytes);
   }
 }
 
@@ -101,6 +107,7 @@ void FlightRecorder::recordFrame(int frameIndex, bool checked, const FlightHooks
   if (!checked) return;
   if (hooks.measureError) {
     if (const std::optional<FrameScreenError> error = hooks.measureError(m_engine, camera)) {
+      record.holePixels += error->holePixels;
       if (frame.stats.blocksOnAncestor > 0) {
         record.errorOnAncestorMaxPx = std::max(record.errorOnAncestorMaxPx, error->maxPx);
         record.errorOnAncestorP99Px = std::max(record.errorOnAncestorP99Px, error->p99Px);
@@ -116,6 +123,7 @@ void FlightRecorder::recordFrame(int frameIndex, bool checked, const FlightHooks
   record.openEdges += report.openEdges;
   record.tJunctions += report.tJunctions;
   ++record.framesChecked;
+  if (hooks.afterCheck) hooks.afterCheck(frameIndex);
 }
 
 }  // namespace polder

@@ -536,14 +536,19 @@ std::span<const MeshData> TerrainEngine::frameMeshes() {
   Impl& s = *m_impl;
   const std::span<const TerrainPiece> pieces = s.frame.pieces;
   if (s.pieceMeshes.size() < pieces.size()) s.pieceMeshes.resize(pieces.size());
+  // Every piece relative to one shared sample (the middle piece's anchor): a sample two pieces
+  // share then becomes the same floats in both, so rays find no slivers between them.
+  const GridAnchor shared = pieces.empty() ? GridAnchor{} : pieces[pieces.size() / 2].mesh.anchor;
   for (std::size_t p = 0; p < pieces.size(); ++p) {
     const GridMeshView& grid = pieces[p].mesh;
     MeshData& mesh = s.pieceMeshes[p];
-    mesh.origin = glm::dvec3(double(grid.anchor.x) * grid.spacing.x, double(grid.anchor.y) * grid.spacing.y, 0.0);
+    mesh.origin = glm::dvec3(double(shared.x) * grid.spacing.x, double(shared.y) * grid.spacing.y, 0.0);
     mesh.positions.clear();
     mesh.normals.clear();
+    const double offsetX = double(grid.anchor.x - shared.x), offsetY = double(grid.anchor.y - shared.y);
     for (const GridMeshVertex& v : grid.vertices) {
-      mesh.positions.emplace_back(float(double(v.x) * grid.spacing.x), float(double(v.y) * grid.spacing.y), v.z);
+      mesh.positions.emplace_back(float((offsetX + double(v.x)) * grid.spacing.x),
+                                  float((offsetY + double(v.y)) * grid.spacing.y), v.z);
       mesh.normals.push_back(
           terrain::sampleNormal(*s.field, int(grid.anchor.x) + int(v.x), int(grid.anchor.y) + int(v.y)));
     }

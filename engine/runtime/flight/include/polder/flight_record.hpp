@@ -22,6 +22,7 @@ struct FramePixelCracks {
 struct FrameScreenError {
   double maxPx = 0.0;
   double p99Px = 0.0;
+  std::size_t holePixels = 0;  // pixels looking through a gap in the frame's mesh
 };
 
 struct FlightRecord {
@@ -63,6 +64,7 @@ struct FlightRecord {
   double errorOnAncestorP99Px = 0.0;
   int framesChecked = 0;
   std::size_t openEdges = 0, tJunctions = 0;
+  std::size_t holePixels = 0;  // over every measured frame
 };
 
 struct FlightSummary {

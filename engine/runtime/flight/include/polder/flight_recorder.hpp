@@ -60,6 +60,8 @@ struct FlightHooks {
   // On the checked frames: the frame's screen-space error, or nullopt where it could not be
   // measured (the frame is still checked for watertightness).
   std::function<std::optional<FrameScreenError>(TerrainEngine& engine, const Camera& camera)> measureError;
+  // After each checked frame's checks, with its index: the caller's own measurements.
+  std::function<void(int frameIndex)> afterCheck;
   // After each frame: the share of the flight done.
   std::function<void(float fraction)> progress;
 };

@@ -102,7 +102,7 @@ class TerrainEngine {
   const TerrainFrame& finishFrame(const Camera& camera, std::uint64_t budgetTriangles);
 
   // The last frame's pieces as world-space meshes, one per entry of frame.pieces in the same
-  // order (positions relative to each piece's anchor, with normals): for Embree measurement
+  // order (positions relative to one sample the pieces share, with normals): for Embree measurement
   // and export, not for drawing (draw the pieces, polder/terrain_frame.hpp). The storage is
   // reused, so once frames stop growing this allocates nothing; valid until the next call.
   std::span<const MeshData> frameMeshes();
