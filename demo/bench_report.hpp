@@ -1,6 +1,7 @@
 // What the bench reports share: percentiles as JSON, and the process's peak memory.
 #pragma once
 
+#include <cstdint>
 #include <span>
 
 #include <nlohmann/json.hpp>
@@ -15,6 +16,11 @@ nlohmann::json percentileJson(std::span<const double> values);
 
 // The process's peak resident set size in MiB (getrusage; Linux reports KiB).
 double peakRssMb();
+
+// Budget mode's promise for one frame: at most the budget, and at least nine tenths of it.
+inline bool endsWithinBudget(std::uint64_t triangles, std::uint64_t budget) {
+  return triangles <= budget && triangles >= budget * 9 / 10;
+}
 
 // The process's resident set size now, in MiB (/proc/self/statm; 0 where unreadable).
 double currentRssMb();

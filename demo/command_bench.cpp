@@ -248,15 +248,16 @@ int runBench(BenchArguments arguments) {
   const double fullResolution = double(terrain::fullResolutionTriangleCount(*field));
   // Resident memory at the checked frames; the first tenth of the flight warms the caches up.
   const int warmUpFrames = arguments.frames / 10;
+  const double rssDrift = rssDriftAfter(rssSamples, warmUpFrames);
   nlohmann::json rssJson = nlohmann::json::array();
   for (const RssSample& sample : rssSamples) rssJson.push_back({{"frame", sample.frame}, {"mb", sample.mb}});
   // Budget mode ends each frame within 0.9P..P; a frame over P breaks the budget.
   const bool budgetMode = arguments.mode == "budget";
-  const double budget = double(arguments.budget);
-  const auto framesWithinBudget = std::count_if(cached.triangles.begin(), cached.triangles.end(),
-                                                [&](double t) { return t <= budget && t >= 0.9 * budget; });
-  const auto framesOverBudget =
-      std::count_if(cached.triangles.begin(), cached.triangles.end(), [&](double t) { return t > budget; });
+  const auto framesWithinBudget = std::count_if(cached.triangles.begin(), cached.triangles.end(), [&](double t) {
+    return endsWithinBudget(std::uint64_t(t), arguments.budget);
+  });
+  const auto framesOverBudget = std::count_if(cached.triangles.begin(), cached.triangles.end(),
+                                              [&](double t) { return std::uint64_t(t) > arguments.budget; });
   const TerrainLoadStats& loads = (*engine)->loadStats();
   const std::vector<double> loadMs(loads.loadMs.begin(), loads.loadMs.end());
   nlohmann::json report = {
@@ -343,7 +344,7 @@ int runBench(BenchArguments arguments) {
        {{"peak_rss_mb", peakRssMb()},
         {"rss_mb_at_checks", rssJson},
         {"warm_up_frames", warmUpFrames},
-        {"rss_drift_after_warm_up", rssDriftAfter(rssSamples, warmUpFrames)}}},
+        {"rss_drift_after_warm_up", rssDrift}}},
   };
   if (comparison) {
     report["compare_cache"] = {
@@ -409,7 +410,7 @@ int runBench(BenchArguments arguments) {
                 100.0 * comparison->lodMsSavedFraction, 100.0 * comparison->totalMsSavedFraction,
                 comparison->trianglesRatio);
   std::printf("%-34s %.0f MB; resident after warm-up varies by %.2f%% over %zu checks\n", "peak memory", peakRssMb(),
-              100.0 * rssDriftAfter(rssSamples, warmUpFrames), rssSamples.size());
+              100.0 * rssDrift, rssSamples.size());
 
   if (!arguments.json.empty()) {
     if (Status written = core::writeFileContents(arguments.json, report.dump(2) + "\n"); !written)

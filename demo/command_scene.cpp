@@ -88,8 +88,7 @@ Result<SceneRun> runScene(scene::BuiltScene& loaded, int frames, const std::stri
     run.terrainMs.push_back(stats.terrain.totalMs);
     run.objects = stats.objects;
     run.allocatedRegionsMax = std::max(run.allocatedRegionsMax, stats.allocatedRegions);
-    run.framesWithinBudget +=
-        budget && stats.triangles() <= budgetTriangles && stats.triangles() >= budgetTriangles * 9 / 10;
+    run.framesWithinBudget += budget && endsWithinBudget(stats.triangles(), budgetTriangles);
     if (headless && index % every == 0) {
       drawScene(*headless->renderer, *drawer, *loaded.scene, camera, loaded.style);
       if (Status s = headless->renderer->endFrame(); !s) return s.error();

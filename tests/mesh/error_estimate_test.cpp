@@ -33,12 +33,6 @@ struct Builder {
 
 class ErrorEstimate : public ::testing::TestWithParam<Builder> {};
 
-double diagonalOf(const TriangleMesh& mesh) {
-  glm::vec3 lo(1e30f), hi(-1e30f);
-  for (const glm::vec3& p : mesh.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  return double(glm::length(hi - lo));
-}
-
 TEST_P(ErrorEstimate, TracksTheMeasuredHausdorffDistanceAtRandomLevels) {
   const TriangleMesh sphere = test::bumpySphere(40, 52);
   auto steps = GetParam().build(sphere, singleRegion());
@@ -46,7 +40,7 @@ TEST_P(ErrorEstimate, TracksTheMeasuredHausdorffDistanceAtRandomLevels) {
   auto pm = ProgressiveMesh::assemble(sphere, singleRegion(), *steps);
   ASSERT_TRUE(pm.ok()) << pm.error().message;
   const RegionSequence& seq = pm->region(0);
-  const double diagonal = diagonalOf(sphere);
+  const double diagonal = boundingBoxDiagonal(sphere.positions);
   ProgressiveMeshInstance instance(*pm);
   std::mt19937 random(19);
   std::uniform_int_distribution<std::uint32_t> anyLevel(0, seq.levelCount() - 1);

@@ -1,5 +1,5 @@
-// Surfaces the query tests build, and an independent statement of the triangulation
-// convention (terrain/heightfield.hpp) to check the scene against.
+// Surfaces the query tests build, and the triangulation convention (heightfield_surface.hpp)
+// to check the scene against.
 #pragma once
 
 #include <algorithm>
@@ -10,6 +10,8 @@
 
 #include <polder/mesh_data.hpp>
 #include <polder/terrain/heightfield.hpp>
+
+#include "heightfield_surface.hpp"
 
 namespace polder::query::test {
 
@@ -23,17 +25,7 @@ terrain::Heightfield makeField(int width, int height, double spacingX, double sp
   return field;
 }
 
-// Height of the piecewise-linear surface at world (x, y): cell (cx, cy) is split along the
-// diagonal from (cx+1, cy) to (cx, cy+1); the lower-left triangle holds a + b <= 1.
-inline double conventionHeight(const terrain::Heightfield& field, double x, double y) {
-  const double sx = x / field.spacingX, sy = y / field.spacingY;
-  const int cx = std::min(int(sx), field.width - 2), cy = std::min(int(sy), field.height - 2);
-  const double a = sx - cx, b = sy - cy;
-  const double z00 = field.at(cx, cy), z10 = field.at(cx + 1, cy);
-  const double z01 = field.at(cx, cy + 1), z11 = field.at(cx + 1, cy + 1);
-  if (a + b <= 1.0) return z00 + a * (z10 - z00) + b * (z01 - z00);
-  return z11 + (1.0 - a) * (z01 - z11) + (1.0 - b) * (z10 - z11);
-}
+using polder::test::conventionHeight;
 
 // The field as a triangle mesh following the convention, positions relative to `origin`.
 inline MeshData meshOfField(const terrain::Heightfield& field, const glm::dvec3& origin) {

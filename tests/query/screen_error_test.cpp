@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "pinhole_camera.hpp"
 #include "query_test_fields.hpp"
 
 namespace polder::query {
@@ -72,18 +73,6 @@ TEST(ScreenError, AVerticalOffsetMeasuresItsProjectedLength) {
   EXPECT_LE(error.p99Px, error.maxPx);
 }
 
-// An independent pinhole model of the camera: the eye frame from forward/right/up and the
-// tangent of half the vertical field of view, without the library's matrices.
-glm::dvec2 pinholePixel(const Camera& camera, const glm::dvec3& point) {
-  const glm::dvec3 d = point - camera.position;
-  const double tanHalf = std::tan(0.5 * camera.fovYDeg * std::acos(-1.0) / 180.0);
-  const double aspect = double(camera.widthPx) / double(camera.heightPx);
-  const double depth = glm::dot(d, camera.forward());
-  const double ndcX = glm::dot(d, camera.right()) / (depth * tanHalf * aspect);
-  const double ndcY = glm::dot(d, camera.up()) / (depth * tanHalf);
-  return {(ndcX * 0.5 + 0.5) * camera.widthPx, (0.5 - ndcY * 0.5) * camera.heightPx};
-}
-
 // The plane z = base + slopeX x + slopeY y over [0, extent]^2, as two triangles.
 struct Plane {
   double base = 0.0, slopeX = 0.0, slopeY = 0.0, extent = 0.0;
@@ -120,7 +109,8 @@ OracleError oracleAgainstFlatGround(const Plane& drawn, const Camera& camera) {
       // Keep clear of the rim, where a ray may graze past the last triangle's edge.
       const double margin = 1.0;
       if (hit.x < margin || hit.y < margin || hit.x > drawn.extent - margin || hit.y > drawn.extent - margin) continue;
-      const double e = glm::length(pinholePixel(camera, hit) - pinholePixel(camera, {hit.x, hit.y, 0.0}));
+      const double e = glm::length(polder::test::pinholePixel(camera, hit).pixel -
+                                   polder::test::pinholePixel(camera, {hit.x, hit.y, 0.0}).pixel);
       out.maxPx = std::max(out.maxPx, e);
       out.minPx = std::min(out.minPx, e);
       sum += e;

@@ -1,7 +1,7 @@
 // The dike check as a property: over rough DEMs in error mode, no drawn dike triangle is
 // over tau on screen, by brute force. Each dike triangle is a plane through three samples;
-// the test walks a fine lattice over it and every sample inside it, takes the true surface
-// below each point (the heightfield's own triangulation), projects both points with an
+// the test walks a quarter-cell lattice over it, takes the true surface below each point
+// (the heightfield's own triangulation), projects both points with an
 // independent pinhole model and compares the pixel distance with tau. The lattice can only
 // miss error, so any excess it finds is real. White noise at the sample scale is what
 // pins cannot cure, so the node-split path must run.
@@ -13,42 +13,20 @@
 
 #include <gtest/gtest.h>
 
+#include "heightfield_surface.hpp"
+#include "pinhole_camera.hpp"
+
 namespace polder {
 namespace {
-
-// Height of the heightfield's triangulated surface at sample coordinates (sx, sy): cell
-// (cx, cy) is split along the diagonal from (cx + 1, cy) to (cx, cy + 1).
-double surfaceHeight(const terrain::Heightfield& field, double sx, double sy) {
-  const int cx = std::clamp(int(std::floor(sx)), 0, field.width - 2);
-  const int cy = std::clamp(int(std::floor(sy)), 0, field.height - 2);
-  const double a = sx - cx, b = sy - cy;
-  const double z00 = field.at(cx, cy), z10 = field.at(cx + 1, cy);
-  const double z01 = field.at(cx, cy + 1), z11 = field.at(cx + 1, cy + 1);
-  if (a + b <= 1.0) return z00 + a * (z10 - z00) + b * (z01 - z00);
-  return z11 + (1.0 - a) * (z01 - z11) + (1.0 - b) * (z10 - z11);
-}
-
-// Pixel position of a world point, or nothing off screen or behind the eye.
-std::optional<glm::dvec2> pinholePixel(const Camera& camera, const glm::dvec3& point) {
-  const glm::dvec3 d = point - camera.position;
-  const double depth = glm::dot(d, camera.forward());
-  if (depth < camera.nearM) return std::nullopt;
-  const double tanHalf = std::tan(0.5 * camera.fovYDeg * std::acos(-1.0) / 180.0);
-  const double aspect = double(camera.widthPx) / double(camera.heightPx);
-  const double ndcX = glm::dot(d, camera.right()) / (depth * tanHalf * aspect);
-  const double ndcY = glm::dot(d, camera.up()) / (depth * tanHalf);
-  if (std::abs(ndcX) > 1.0 || std::abs(ndcY) > 1.0) return std::nullopt;
-  return glm::dvec2((ndcX * 0.5 + 0.5) * camera.widthPx, (0.5 - ndcY * 0.5) * camera.heightPx);
-}
 
 // The largest on-screen distance between a drawn dike point and the surface below it.
 double worstDikePixelError(const terrain::Heightfield& field, const TerrainDikes& dikes, const Camera& camera) {
   double worst = 0.0;
   auto measure = [&](double sx, double sy, double drawnHeight) {
     const glm::dvec3 drawn(sx * field.spacingX, sy * field.spacingY, drawnHeight);
-    const glm::dvec3 truth(drawn.x, drawn.y, surfaceHeight(field, sx, sy));
-    const auto a = pinholePixel(camera, drawn), b = pinholePixel(camera, truth);
-    if (a && b) worst = std::max(worst, glm::length(*a - *b));
+    const glm::dvec3 truth(drawn.x, drawn.y, test::conventionHeight(field, drawn.x, drawn.y));
+    const test::PinholePixel a = test::pinholePixel(camera, drawn), b = test::pinholePixel(camera, truth);
+    if (a.onScreen && b.onScreen) worst = std::max(worst, glm::length(a.pixel - b.pixel));
   };
   for (std::size_t t = 0; t + 2 < dikes.indices.size(); t += 3) {
     glm::dvec3 corner[3];

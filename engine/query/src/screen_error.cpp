@@ -34,6 +34,7 @@ ScreenError measureScreenError(const QueryScene& lodMesh, const QueryScene& trut
   std::vector<std::vector<double>> errors(static_cast<std::size_t>(std::max(rows, 0)));
   // Per sampled pixel: 1 where its ray met the LOD mesh from above, 2 from below (for the holes).
   std::vector<std::uint8_t> hitLod(std::size_t(std::max(rows, 0)) * std::size_t(std::max(columns, 0)), 0);
+  auto cell = [columns](int row, int column) { return std::size_t(row) * std::size_t(columns) + std::size_t(column); };
   auto measureRows = [&](std::size_t rowBegin, std::size_t rowEnd) {
     std::vector<QueryRay> rays(static_cast<std::size_t>(columns));
     std::vector<std::optional<RayHit>> hits(static_cast<std::size_t>(columns));
@@ -49,7 +50,7 @@ ScreenError measureScreenError(const QueryScene& lodMesh, const QueryScene& trut
         const auto& hit = hits[std::size_t(column)];
         if (!hit) continue;
         // RayHit::normal faces against the ray; terrain triangles face up.
-        hitLod[std::size_t(row) * std::size_t(columns) + std::size_t(column)] = hit->normal.z > 0.0 ? 1 : 2;
+        hitLod[cell(row, column)] = hit->normal.z > 0.0 ? 1 : 2;
         const auto trueHeight = truth.height(hit->point.x, hit->point.y);
         if (!trueHeight) continue;
         const auto drawn = project(viewProjection, camera, hit->point);
@@ -62,9 +63,7 @@ ScreenError measureScreenError(const QueryScene& lodMesh, const QueryScene& trut
   core::ThreadPool(options.threads).forRanges(errors.size(), kRowsPerTask, measureRows);
 
   ScreenError result;
-  auto hitAt = [&](int row, int column) {
-    return hitLod[std::size_t(row) * std::size_t(columns) + std::size_t(column)];
-  };
+  auto hitAt = [&](int row, int column) { return hitLod[cell(row, column)]; };
   for (int column = 0; column < columns; ++column) {
     // Misses between the column's first and last hit are enclosed by the mesh.
     int first = rows, last = -1;
