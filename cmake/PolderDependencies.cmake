@@ -8,14 +8,16 @@ polder_component(core)
 polder_dependency(core glm CONFIG)
 polder_dependency(core TBB CONFIG)
 
+# PNG image data is inflated once before libpng sees it, so that corrupt data is reported
+# without libpng printing to stderr; used by every reader of images.
+polder_component(image_check IF POLDER_WITH_OPENIMAGEIO)
+polder_dependency(image_check ZLIB)
+
 polder_component(terrain)
 
 polder_component(terrain_io IF POLDER_WITH_OPENIMAGEIO)
 polder_dependency(terrain_io OpenImageIO 2.4 CONFIG)
 polder_dependency(terrain_io TIFF)
-# PNG image data is inflated once before libpng sees it, so that corrupt data is reported
-# without libpng printing to stderr.
-polder_dependency(terrain_io ZLIB)
 
 polder_component(cache)
 

@@ -2,9 +2,12 @@
 // hang or output on the console.
 #include <gtest/gtest.h>
 
+#include <random>
 #include <string>
 
+#include <polder/image.hpp>
 #include <polder/mesh_io/mesh_file.hpp>
+#include <polder/terrain/image_writer.hpp>
 
 #include "mesh_test_files.hpp"
 #include "test_support.hpp"
@@ -199,6 +202,38 @@ TEST(ReadMeshErrors, NoTriangles) {
   MeshReadOptions noWeld;
   noWeld.weldPositions = false;
   EXPECT_TRUE(readMesh(dir.file("degenerate.obj"), noWeld).ok());
+}
+
+// A texture that is truncated or whose compressed data is corrupt: refused, naming both
+// files, before the image decoder can print about it.
+TEST(ReadMeshErrors, CorruptTexturePng) {
+  ScratchDir dir;
+  RgbaImage noise(48, 48);
+  std::mt19937 random(5);
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 48; ++x)
+      for (int c = 0; c < 4; ++c) noise.at(x, y)[c] = std::uint8_t(random());
+  ASSERT_TRUE(terrain::writeRgbaPng(dir.file("good.png"), noise).ok());
+  const std::string bytes = test::readBytes(dir.file("good.png"));
+  ASSERT_GT(bytes.size(), 4000u);
+  const auto file = dir.file("textured.obj");
+  test::writeFile(file, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5 0.5\nf 1/1 2/1 3/1\n");
+
+  std::string corrupt = bytes;
+  for (std::size_t i = 200; i < 260; ++i) corrupt[i] = char(corrupt[i] ^ 0x5a);
+  test::writeFile(dir.file("corrupt.png"), corrupt);
+  test::writeFile(dir.file("truncated.png"), bytes.substr(0, bytes.size() / 2));
+  for (const char* texture : {"corrupt.png", "truncated.png"}) {
+    MeshReadOptions options;
+    options.bakeTexture = dir.file(texture);
+    expectReadError(file, ErrorKind::InvalidData, texture, options);
+    expectReadError(file, ErrorKind::InvalidData, "PNG", options);
+  }
+  MeshReadOptions good;
+  good.bakeTexture = dir.file("good.png");
+  testing::internal::CaptureStderr();
+  EXPECT_TRUE(readMesh(file, good).ok());
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
 }
 
 }  // namespace

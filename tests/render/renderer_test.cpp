@@ -4,11 +4,13 @@
 #include <polder/platform/osmesa_context.hpp>
 #include <polder/render/renderer.hpp>
 
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "gl_util.hpp"  // private to polder::render: compile errors and raw GL errors
 #include "test_scenes.hpp"
@@ -308,6 +310,51 @@ TEST_F(RendererTest, TransientDrawEqualsUploadedDraw) {
   RgbaImage streamed;
   ASSERT_TRUE(m_renderer->readPixels(streamed).ok());
   EXPECT_EQ(maxChannelDifference(uploaded, streamed), 0);
+}
+
+// A draw's linear part (a rigid instance's rotation and scale) places and shades the
+// vertices as if they had been transformed on the CPU.
+TEST_F(RendererTest, TransientDrawAppliesItsLinearPart) {
+  const MeshData hills = makeGrid({500.0, -200.0, 5.0}, 200.0f, 24, test::hills);
+  glm::mat3 linear = glm::mat3(glm::rotate(glm::mat4(1.0f), 0.6f, glm::normalize(glm::vec3(0.2f, 0.3f, 1.0f))));
+  linear = linear * glm::mat3(glm::scale(glm::mat4(1.0f), glm::vec3(1.5f, 0.8f, 1.2f)));
+  MeshData moved = hills;
+  const glm::mat3 normalMatrix = glm::transpose(glm::inverse(linear));
+  for (std::size_t i = 0; i < moved.positions.size(); ++i) {
+    moved.positions[i] = linear * hills.positions[i];
+    if (!moved.normals.empty()) moved.normals[i] = glm::normalize(normalMatrix * hills.normals[i]);
+  }
+  Camera camera = smallCamera();
+  camera.position = {500.0, -700.0, 300.0};
+  camera.pitchDeg = -30.0;
+  TerrainStyle style;
+  style.maxHeightM = 100.0f;
+  auto render = [&](const DrawItem& item) {
+    m_renderer->beginFrame(camera, style);
+    EXPECT_TRUE(m_renderer->drawTransient(item).ok());
+    EXPECT_TRUE(m_renderer->endFrame().ok());
+    RgbaImage image;
+    EXPECT_TRUE(m_renderer->readPixels(image).ok());
+    return image;
+  };
+  const RgbaImage onTheCpu = render(drawItemOf(moved));
+  DrawItem placed = drawItemOf(hills);
+  placed.linear = linear;
+  const RgbaImage byMatrix = render(placed);
+  const RgbaImage unmoved = render(drawItemOf(hills));
+  int differing = 0, differingFromUnmoved = 0;
+  for (std::size_t i = 0; i < byMatrix.pixels.size(); i += 4) {
+    for (int c = 0; c < 3; ++c) {
+      if (std::abs(int(byMatrix.pixels[i + c]) - int(onTheCpu.pixels[i + c])) > 3) {
+        ++differing;
+        break;
+      }
+    }
+    differingFromUnmoved += byMatrix.pixels[i] != unmoved.pixels[i];
+  }
+  const int pixels = int(byMatrix.pixels.size() / 4);
+  EXPECT_LT(differing, pixels / 200) << "rounding may only touch a few edge pixels";
+  EXPECT_GT(differingFromUnmoved, pixels / 20) << "the linear part must move the mesh";
 }
 
 TEST_F(RendererTest, TransientStreamStopsGrowingInSteadyState) {

@@ -116,6 +116,53 @@ TEST(Scene, InstancesOfOneModelTakeTheirOwnLevels) {
   EXPECT_EQ(scene.objectDrawItems().size(), 2u);
 }
 
+// Instances share their model: every draw item reads the model's own vertex table, placed by
+// the node's matrix, and an instance holds only its LOD cache.
+TEST(Scene, InstancesShareTheModelsVerticesAndHoldOnlyTheirCache) {
+  Scene scene;
+  auto shared =
+      model(test::bumpySphere(30, 40), mesh::gridPartition(test::bumpySphere(30, 40).positions, {2, 2, 1}), "sphere");
+  const int sphere = scene.addModel(shared);
+  std::vector<int> nodes;
+  for (int k = 0; k < 3; ++k) {
+    SceneNode node;
+    node.model = sphere;
+    node.pose.translation = {2.0 * k - 2.0, 8.0, 0.5 * k};
+    node.pose.scale = glm::dvec3(1.0 + k, 1.0, 2.0);
+    node.pose.rotation = glm::angleAxis(0.7 * k, glm::normalize(glm::dvec3(1.0, 2.0, 3.0)));
+    nodes.push_back(*scene.addNode(node));
+  }
+  scene.update(lookingAt({0, 0, 0}, 0, 0), 0.0);
+  const mesh::TriangleMesh& vertices = shared->mesh().vertices();
+  ASSERT_FALSE(scene.objectDrawItems().empty());
+  for (const DrawItem& item : scene.objectDrawItems()) {
+    EXPECT_EQ(item.positions.data(), vertices.positions.data());
+    EXPECT_EQ(item.normals.data(), vertices.normals.data());
+  }
+  // Each item places the model's vertices exactly where the node's world matrix does.
+  for (int n : nodes) {
+    const glm::dmat4& world = scene.worldMatrix(n);
+    bool found = false;
+    for (const DrawItem& item : scene.objectDrawItems()) {
+      if (glm::distance(item.origin, glm::dvec3(world[3])) > 1e-12) continue;
+      found = true;
+      for (std::size_t v = 0; v < vertices.vertexCount(); v += 37) {
+        const glm::dvec3 expected(world * glm::dvec4(glm::dvec3(vertices.positions[v]), 1.0));
+        const glm::dvec3 drawn = item.origin + glm::dvec3(item.linear * vertices.positions[v]);
+        EXPECT_LT(glm::distance(expected, drawn), 1e-5);
+      }
+    }
+    EXPECT_TRUE(found) << "node " << n;
+  }
+  // An instance costs its index buffers and tables, not a copy of the vertices.
+  const std::size_t vertexBytes = vertices.vertexCount() * (sizeof(glm::vec3) * 2);
+  const std::size_t indexBytes = 3 * sizeof(std::uint32_t) * vertices.triangleCount();
+  for (int n : nodes) {
+    EXPECT_GE(scene.instanceBytes(n), indexBytes);
+    EXPECT_LT(scene.instanceBytes(n), indexBytes + vertexBytes / 2) << "node " << n;
+  }
+}
+
 TEST(Scene, RegionsNearerTheViewpointGetMoreTriangles) {
   // A terrain-like mesh cut into 6 x 6 regions seen from a corner (ASLOD's Silvretta setup).
   mesh::TriangleMesh grid = test::bumpyGrid(90, 0.08f);

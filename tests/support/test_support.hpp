@@ -40,6 +40,8 @@ class ScratchDir {
 
 // Writes bytes to a file (for hand-made and corrupt inputs).
 void writeFile(const std::filesystem::path& path, const std::string& bytes);
+// Bytes of a file, for truncating and corrupting.
+std::string readBytes(const std::filesystem::path& path);
 
 }  // namespace polder::test
 

@@ -127,6 +127,14 @@ std::uint64_t ProgressiveMeshInstance::triangleCount() const {
   return total;
 }
 
+std::size_t ProgressiveMeshInstance::memoryBytes() const {
+  std::size_t bytes = m_regions.capacity() * sizeof(RegionState);
+  for (const RegionState& state : m_regions)
+    bytes += state.indices.capacity() * sizeof(std::uint32_t) + state.borderTable.capacity() * sizeof(std::uint32_t) +
+             state.borderTriangles.capacity() * sizeof(BorderTriangle);
+  return bytes;
+}
+
 std::uint32_t ProgressiveMeshInstance::activeVertexCount(std::uint32_t region) const {
   return m_mesh->region(region).verticesAt(m_regions[region].level);
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -34,6 +35,8 @@ struct Uniforms {
   GLint gridToEye = -1;
   GLint projection = -1;
   GLint originHeight = -1;
+  GLint linear = -1;
+  GLint normalMatrix = -1;
   GLint ramp = -1;
   GLint minHeight = -1;
   GLint maxHeight = -1;
@@ -132,6 +135,8 @@ Uniforms uniformsOf(const GladGLContext& gl, GLuint id) {
   u.gridToEye = gl.GetUniformLocation(id, "u_gridToEye");
   u.projection = gl.GetUniformLocation(id, "u_projection");
   u.originHeight = gl.GetUniformLocation(id, "u_originHeight");
+  u.linear = gl.GetUniformLocation(id, "u_linear");
+  u.normalMatrix = gl.GetUniformLocation(id, "u_normalMatrix");
   u.ramp = gl.GetUniformLocation(id, "u_ramp");
   u.minHeight = gl.GetUniformLocation(id, "u_minHeight");
   u.maxHeight = gl.GetUniformLocation(id, "u_maxHeight");
@@ -279,16 +284,22 @@ struct Renderer::Impl {
   }
 
   void drawIndexed(GLuint vertexArray, GLsizei indexCount, std::size_t firstIndex, GLint baseVertex,
-                   const glm::dvec3& origin, const glm::vec3& tint) {
+                   const glm::dvec3& origin, const glm::vec3& tint, const glm::mat3& linear = glm::mat3(1.0f)) {
     // The only place world coordinates meet the camera: subtract in double, then go float.
     const glm::dvec3 offset = origin - cameraPosition;
     glm::dmat4 modelView = viewRotation;
     modelView[3] = viewRotation * glm::dvec4(offset, 1.0);
     const glm::mat4 modelViewF(modelView);
+    // A flattening scale has no inverse: its normals keep the linear part's directions.
+    const glm::dmat3 linearD(linear);
+    const double determinant = glm::determinant(linearD);
+    const glm::mat3 normalMatrix(std::abs(determinant) > 1e-30 ? glm::transpose(glm::inverse(linearD)) : linearD);
 
     use(program.id());
     gl.BindVertexArray(vertexArray);
     gl.UniformMatrix4fv(uniforms.modelView, 1, GL_FALSE, glm::value_ptr(modelViewF));
+    gl.UniformMatrix3fv(uniforms.linear, 1, GL_FALSE, glm::value_ptr(linear));
+    gl.UniformMatrix3fv(uniforms.normalMatrix, 1, GL_FALSE, glm::value_ptr(normalMatrix));
     gl.Uniform1f(uniforms.originHeight, float(origin.z));
     gl.Uniform3fv(uniforms.tint, 1, glm::value_ptr(tint));
     submit(uniforms, indexCount, firstIndex, baseVertex);
@@ -568,7 +579,7 @@ Status Renderer::drawTransient(const DrawItem& item) {
   }
 
   r.drawIndexed(r.streamArray.id(), GLsizei(item.indices.size()), r.streamIndexCursor, GLint(r.streamVertexCursor),
-                item.origin, item.tint);
+                item.origin, item.tint, item.linear);
   r.streamVertexCursor += item.positions.size();
   r.streamIndexCursor += item.indices.size();
   r.uploadedBytes += item.positions.size() * sizeof(Vertex) + item.indices.size_bytes();

@@ -12,7 +12,7 @@
 #include <polder/terrain/dem_validation.hpp>
 #include <polder/terrain/raw.hpp>
 
-#include "png_check.hpp"
+#include <polder/png_check.hpp>
 
 namespace polder::terrain::io {
 namespace {
@@ -63,7 +63,7 @@ Result<DemFile> classifyDemFile(const std::filesystem::path& path, const DemOpti
   if (options.raw) return DemFile{DemFileKind::Raw, file.length};
   const Signature signature = sniff(head, std::size_t(std::min<std::uint64_t>(file.length, head.size())));
   if (signature == Signature::Png)
-    if (Status structure = checkPngStructure(path, file.length); !structure) return structure.error();
+    if (Status structure = image_check::checkPngStructure(path, file.length); !structure) return structure.error();
   if (signature != Signature::Unknown) return DemFile{DemFileKind::Image, file.length};
 
   const std::string extension = lowerExtension(path);

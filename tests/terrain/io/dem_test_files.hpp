@@ -121,16 +121,6 @@ void writeGeoTiff(const std::filesystem::path& path, int width, int height, cons
   TIFFClose(tif);
 }
 
-// Bytes of a file, for truncating and corrupting.
-inline std::string readBytes(const std::filesystem::path& path) {
-  std::string bytes(std::filesystem::file_size(path), '\0');
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  const std::size_t read = std::fread(bytes.data(), 1, bytes.size(), file);
-  std::fclose(file);
-  bytes.resize(read);
-  return bytes;
-}
-
 // Stores values in the byte order asked for.
 
 }  // namespace polder::test

@@ -29,6 +29,9 @@ struct DrawItem {
   std::span<const glm::vec3> normals;
   std::span<const std::uint32_t> indices;
   glm::vec3 tint{1.0f};  // multiplies the shaded colour (debug colouring)
+  // Object frame to world, applied before `origin`: world = origin + linear * position. A rigid
+  // instance draws its model's shared vertices with its rotation and scale here.
+  glm::mat3 linear{1.0f};
 };
 
 inline DrawItem drawItemOf(const MeshData& mesh) {

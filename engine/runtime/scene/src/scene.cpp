@@ -105,9 +105,6 @@ Result<int> Scene::addNode(SceneNode node) {
     state.instance = std::make_unique<mesh::ProgressiveMeshInstance>(mesh);
     for (std::uint32_t r = 0; r < mesh.regionCount(); ++r) state.instance->setLevel(r, 0);
     state.instance->resolveBorders();
-    state.worldPositions.resize(mesh.vertices().vertexCount());
-    state.worldNormals.resize(mesh.vertices().vertexCount());
-    state.transformedUpTo.assign(mesh.regionCount(), 0);
     state.regionVisible.assign(mesh.regionCount(), 0);
     state.allocation.assign(mesh.regionCount(), 0);
     state.regionDistance.assign(mesh.regionCount(), 0.0);
@@ -162,9 +159,9 @@ const SceneStats& Scene::update(const Camera& camera, double timeS) {
     if (!state.instance) continue;
     ++m_stats.objects;
     state.instance->resolveBorders();
-    // Objects out of view keep their old vertices; they are brought up to date when they return.
-    if (std::find(state.regionVisible.begin(), state.regionVisible.end(), 1) != state.regionVisible.end())
-      transformVertices(state);
+    const mesh::TriangleMesh& vertices = state.instance->mesh().vertices();
+    const glm::dvec3 origin(state.world[3]);
+    const glm::mat3 linear{glm::dmat3(state.world)};
     bool anyVisible = false;
     for (std::uint32_t r = 0; r < state.regionVisible.size(); ++r) {
       if (!state.regionVisible[r]) continue;
@@ -173,7 +170,7 @@ const SceneStats& Scene::update(const Camera& camera, double timeS) {
       m_stats.objectTriangles += state.instance->triangleCount(r);
       const glm::vec3 tint = state.node.tintRegions ? state.node.tint * regionTint(r) : state.node.tint;
       m_drawItems.push_back(
-          DrawItem{state.origin, state.worldPositions, state.worldNormals, state.instance->indices(r), tint});
+          DrawItem{origin, vertices.positions, vertices.normals, state.instance->indices(r), tint, linear});
     }
     m_stats.visibleObjects += anyVisible;
   }
@@ -259,28 +256,13 @@ void Scene::chooseLevels(const Camera& camera, std::span<const lod::RegionDemand
   }
 }
 
-void Scene::transformVertices(NodeState& state) {
-  const mesh::ProgressiveMesh& mesh = state.instance->mesh();
-  if (state.world != state.transformedWith) {
-    std::fill(state.transformedUpTo.begin(), state.transformedUpTo.end(), 0u);
-    state.transformedWith = state.world;
-    state.origin = glm::dvec3(state.world[3]);
-  }
-  const glm::dmat3 linear(state.world);
-  const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(linear));
-  const auto& positions = mesh.vertices().positions;
-  const auto& normals = mesh.vertices().normals;
-  for (std::uint32_t r = 0; r < mesh.regionCount(); ++r) {
-    const std::uint32_t active = state.instance->activeVertexCount(r);
-    std::uint32_t& done = state.transformedUpTo[r];
-    if (done >= active) continue;
-    const std::uint32_t begin = mesh.region(r).vertexBegin();
-    for (std::uint32_t v = begin + done; v < begin + active; ++v) {
-      state.worldPositions[v] = glm::vec3(linear * glm::dvec3(positions[v]));
-      if (!normals.empty()) state.worldNormals[v] = glm::vec3(glm::normalize(normalMatrix * glm::dvec3(normals[v])));
-    }
-    done = active;
-  }
+std::size_t Scene::instanceBytes(int index) const {
+  const NodeState& state = m_nodes[index];
+  std::size_t bytes = state.regionVisible.capacity() * sizeof(std::uint8_t) +
+                      state.allocation.capacity() * sizeof(std::uint32_t) +
+                      state.regionDistance.capacity() * sizeof(double);
+  if (state.instance) bytes += sizeof(mesh::ProgressiveMeshInstance) + state.instance->memoryBytes();
+  return bytes;
 }
 
 }  // namespace polder::scene

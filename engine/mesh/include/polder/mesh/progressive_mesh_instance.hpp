@@ -46,6 +46,9 @@ class ProgressiveMeshInstance {
   // Number of vertices in use by the region's own level (a prefix of its vertex range).
   std::uint32_t activeVertexCount(std::uint32_t region) const;
 
+  // Heap bytes of the instance's own state (index buffers, border tables, scratch).
+  std::size_t memoryBytes() const;
+
   // Index-buffer and table entries written since construction: the cost measure of moves.
   std::uint64_t writes() const { return m_writes; }
 

@@ -12,9 +12,10 @@
 //   const SceneStats& stats = scene.update(camera, t);
 //   for (const DrawItem& item : scene.objectDrawItems()) renderer.drawTransient(item);
 //
-// Rigid instances are moved on the CPU: only the vertices the current levels use are
-// transformed, again when the node moves or a region refines (ASLOD's deformation of the
-// polygon cache). Thread contract as TerrainEngine: one frame thread.
+// Instances are rigid: each draws its model's shared vertex table with its own matrix
+// (DrawItem::origin and DrawItem::linear), so an instance holds only its LOD cache (index
+// buffers and border tables) and no vertex of its own; instanceBytes() says how much.
+// Thread contract as TerrainEngine: one frame thread.
 #pragma once
 
 #include <cstdint>
@@ -76,7 +77,7 @@ struct SceneStats {
   std::uint64_t terrainTriangles = 0;
   std::size_t allocatedRegions = 0;  // terrain blocks + mesh regions the allocator split over
   double allocatorMs = 0.0;
-  double objectsMs = 0.0;  // levels, border lookups and vertex transforms
+  double objectsMs = 0.0;  // levels and border lookups
   double totalMs = 0.0;
   TerrainFrameStats terrain;
   std::uint64_t triangles() const { return objectTriangles + terrainTriangles; }
@@ -99,7 +100,8 @@ class Scene {
   // Animates, culls, allocates and updates every instance for this camera at this time.
   const SceneStats& update(const Camera& camera, double timeS);
 
-  // The last update's visible mesh regions (world positions relative to each node's origin).
+  // The last update's visible mesh regions: the model's vertices, placed by each item's
+  // origin and linear part.
   std::span<const DrawItem> objectDrawItems() const { return m_drawItems; }
   TerrainEngine* terrain() { return m_terrain.get(); }
   const TerrainEngine* terrain() const { return m_terrain.get(); }
@@ -112,6 +114,8 @@ class Scene {
   const glm::dmat4& worldMatrix(int index) const { return m_nodes[index].world; }
   // The node's instance of its model (asserts the node shows one).
   const mesh::ProgressiveMeshInstance& instance(int index) const { return *m_nodes[index].instance; }
+  // Heap bytes the node holds beyond its shared model: its LOD cache and per-region state.
+  std::size_t instanceBytes(int index) const;
   // The triangles the allocator gave each visible region of the node last frame (budget mode).
   std::uint32_t regionAllocation(int index, std::uint32_t region) const;
 
@@ -120,11 +124,6 @@ class Scene {
     SceneNode node;
     glm::dmat4 world{1.0};
     std::unique_ptr<mesh::ProgressiveMeshInstance> instance;
-    std::vector<glm::vec3> worldPositions;  // relative to origin
-    std::vector<glm::vec3> worldNormals;
-    glm::dvec3 origin{0.0};
-    glm::dmat4 transformedWith{0.0};             // the matrix worldPositions hold
-    std::vector<std::uint32_t> transformedUpTo;  // per region: vertices transformed
     std::vector<std::uint8_t> regionVisible;
     std::vector<std::uint32_t> allocation;
     std::vector<double> regionDistance;
@@ -132,7 +131,6 @@ class Scene {
   void animate(double timeS);
   void cullAndWeigh(const Camera& camera);
   void chooseLevels(const Camera& camera, std::span<const lod::RegionDemand> terrainDemands);
-  void transformVertices(NodeState& state);
 
   std::unique_ptr<TerrainEngine> m_terrain;
   std::vector<std::shared_ptr<const MeshModel>> m_models;

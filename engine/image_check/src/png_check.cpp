@@ -1,6 +1,6 @@
 // PNG chunk layout and CRC-32 as in the PNG specification (ISO/IEC 15948), sections 5.3, D;
 // the image data is one zlib stream across the IDAT chunks (section 10), inflated by zlib.
-#include "png_check.hpp"
+#include "polder/png_check.hpp"
 
 #include <zlib.h>
 
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace polder::terrain::io {
+namespace polder::image_check {
 namespace {
 
 constexpr std::array<std::uint32_t, 256> makeCrcTable() {
@@ -131,4 +131,4 @@ Status checkPngStructure(const std::filesystem::path& path, std::uint64_t fileLe
   }
 }
 
-}  // namespace polder::terrain::io
+}  // namespace polder::image_check

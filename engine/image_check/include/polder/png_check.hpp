@@ -10,10 +10,10 @@
 
 #include <polder/result.hpp>
 
-namespace polder::terrain::io {
+namespace polder::image_check {
 
 // Fails (InvalidData) on a truncated or corrupt PNG, naming the chunk and its byte offset.
 // Reads the whole file once.
 Status checkPngStructure(const std::filesystem::path& path, std::uint64_t fileLength);
 
-}  // namespace polder::terrain::io
+}  // namespace polder::image_check
