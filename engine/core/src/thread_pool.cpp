@@ -28,12 +28,7 @@ ThreadPool::~ThreadPool() = default;
 int ThreadPool::threadCount() const noexcept { return m_arena->arena.max_concurrency(); }
 
 void ThreadPool::forRangesErased(std::size_t count, std::size_t grain, const void* body, RangeCall call) {
-  if (count == 0) return;
   grain = std::max<std::size_t>(grain, 1);
-  if (threadCount() <= 1 || count <= grain) {
-    call(body, 0, count);
-    return;
-  }
   m_arena->arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, grain),
                       [&](const tbb::blocked_range<std::size_t>& range) { call(body, range.begin(), range.end()); });

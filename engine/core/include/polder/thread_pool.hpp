@@ -5,7 +5,8 @@
 // oneTBB work) share those threads instead of each starting its own. A pool's size caps how
 // many threads its work uses at once; making one is cheap. Work given to a pool never relies
 // on running concurrently: with one thread it all runs on the calling thread, in turn, and
-// gives the same result.
+// gives the same result. ThreadSanitizer builds (POLDER_SANITIZE_THREAD) run it on std::thread
+// workers instead, since that tool cannot see oneTBB's synchronisation.
 //
 // Exceptions thrown by the work reach the caller once every part of the call has ended (the
 // first one, where several throw).
@@ -33,6 +34,11 @@ class ThreadPool {
   // no finer than about that (all of [0, count) in one call where count <= grain).
   template <class Body>
   void forRanges(std::size_t count, std::size_t grain, const Body& body) {
+    if (count == 0) return;
+    if (threadCount() <= 1 || count <= grain) {  // one range, on the calling thread
+      body(std::size_t(0), count);
+      return;
+    }
     forRangesErased(count, grain, &body, [](const void* f, std::size_t begin, std::size_t end) {
       (*static_cast<const Body*>(f))(begin, end);
     });
