@@ -74,18 +74,26 @@ struct ThreadPool::Arena {
     }
   }
 
-  // Queues the batch, runs its parts on the calling thread too, waits for the rest.
-  void runAndWait(const std::shared_ptr<Batch>& batch, bool callerHelps = true) {
+  // Runs what is left of the batch on the calling thread, waits for the parts others took.
+  void helpAndWait(const std::shared_ptr<Batch>& batch) {
     std::unique_lock lock(mutex);
-    if (batch->parts > 0 && batch->next < batch->parts) {
-      queue.push_back(batch);
-      wake.notify_all();
+    while (runOne(batch, lock)) {
     }
-    if (callerHelps)
-      while (runOne(batch, lock)) {
-      }
     done.wait(lock, [&] { return batch->finished == batch->parts; });
     if (batch->failure) std::rethrow_exception(batch->failure);
+  }
+
+  void enqueue(std::shared_ptr<Batch> batch) {
+    {
+      std::lock_guard lock(mutex);
+      queue.push_back(std::move(batch));
+    }
+    wake.notify_all();
+  }
+
+  void runAndWait(const std::shared_ptr<Batch>& batch) {
+    enqueue(batch);
+    helpAndWait(batch);
   }
 
   int threadCount = 1;
@@ -145,11 +153,7 @@ class QueuedBackground final : public ThreadPool::Background {
 
 void ThreadPool::runWithBackground(const std::function<void(Background&)>& lead) {
   Arena& arena = *m_arena;
-  QueuedBackground background([&arena](std::shared_ptr<Batch> batch) {
-    std::lock_guard lock(arena.mutex);
-    arena.queue.push_back(std::move(batch));
-    arena.wake.notify_all();
-  });
+  QueuedBackground background([&arena](std::shared_ptr<Batch> batch) { arena.enqueue(std::move(batch)); });
   std::exception_ptr failure;
   try {
     lead(background);
@@ -159,11 +163,7 @@ void ThreadPool::runWithBackground(const std::function<void(Background&)>& lead)
   // What no worker took yet runs here; then every task has ended.
   for (const std::shared_ptr<Batch>& batch : background.batches()) {
     try {
-      std::unique_lock lock(arena.mutex);
-      while (arena.runOne(batch, lock)) {
-      }
-      arena.done.wait(lock, [&] { return batch->finished == batch->parts; });
-      if (batch->failure) std::rethrow_exception(batch->failure);
+      arena.helpAndWait(batch);
     } catch (...) {
       if (!failure) failure = std::current_exception();
     }

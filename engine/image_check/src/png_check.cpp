@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 namespace polder::image_check {
@@ -129,6 +130,18 @@ Status checkPngStructure(const std::filesystem::path& path, std::uint64_t fileLe
     }
     offset += 12 + std::uint64_t(length);
   }
+}
+
+Status checkIfPng(const std::filesystem::path& path) {
+  char head[8] = {};
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (!in.read(head, sizeof head) || std::memcmp(head, "\x89PNG\r\n\x1a\n", sizeof head) != 0) return {};
+  }
+  std::error_code error;
+  const std::uint64_t length = std::filesystem::file_size(path, error);
+  if (error) return makeError(ErrorKind::Io, "cannot read the file size: " + error.message());
+  return checkPngStructure(path, length);
 }
 
 }  // namespace polder::image_check

@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
-#include <fstream>
 #include <memory>
 #include <new>
 #include <string>
@@ -31,12 +29,6 @@ double texelPosition(double coordinate, int size) {
   return std::clamp(coordinate * size - 0.5, 0.0, double(size - 1));
 }
 
-bool startsLikePng(const std::filesystem::path& image) {
-  char head[8] = {};
-  std::ifstream in(image, std::ios::binary);
-  return in.read(head, sizeof head) && std::memcmp(head, "\x89PNG\r\n\x1a\n", sizeof head) == 0;
-}
-
 }  // namespace
 
 Result<std::vector<glm::vec4>> sampleTexture(const std::filesystem::path& image, const std::vector<glm::vec2>& uvs) {
@@ -46,12 +38,8 @@ Result<std::vector<glm::vec4>> sampleTexture(const std::filesystem::path& image,
     return imageError(image, ErrorKind::Io,
                       std::filesystem::exists(status) ? "not a regular file" : "the file does not exist");
   // libpng prints its complaint about corrupt data to stderr: such files are found first.
-  if (startsLikePng(image)) {
-    const std::uint64_t length = std::filesystem::file_size(image, code);
-    if (code) return imageError(image, ErrorKind::Io, "cannot read the file size: " + code.message());
-    if (Status structure = image_check::checkPngStructure(image, length); !structure)
-      return imageError(image, structure.error().kind, structure.error().message);
-  }
+  if (Status structure = image_check::checkIfPng(image); !structure)
+    return imageError(image, structure.error().kind, structure.error().message);
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // colours as painted, not premultiplied by alpha
   std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::open(image.string(), &config);

@@ -16,4 +16,8 @@ namespace polder::image_check {
 // Reads the whole file once.
 Status checkPngStructure(const std::filesystem::path& path, std::uint64_t fileLength);
 
+// checkPngStructure where the file starts with the PNG signature; any other file passes
+// (its own decoder judges it).
+Status checkIfPng(const std::filesystem::path& path);
+
 }  // namespace polder::image_check
