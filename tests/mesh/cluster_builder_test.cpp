@@ -12,10 +12,10 @@
 
 #include "mesh_test_shapes.hpp"
 #include "mesh_test_topology.hpp"
+#include "polder/closest_point_triangle.hpp"
 #include "polder/mesh/cluster_builder.hpp"
 #include "polder/mesh/progressive_mesh.hpp"
 #include "polder/mesh/progressive_mesh_instance.hpp"
-#include "polder/query/closest_point_triangle.hpp"
 
 namespace polder::mesh {
 namespace {
@@ -42,7 +42,7 @@ double distanceToTriangles(const glm::dvec3& q, const std::vector<glm::vec3>& p,
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t t = 0; t < idx.size(); t += 3) {
     const glm::dvec3 a(p[idx[t]]), b(p[idx[t + 1]]), c(p[idx[t + 2]]);
-    best = std::min(best, glm::length(q - query::closestPointOnTriangle(q, a, b, c).point));
+    best = std::min(best, glm::length(q - closestPointOnTriangle(q, a, b, c).point));
   }
   return best;
 }

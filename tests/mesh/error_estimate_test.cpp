@@ -1,11 +1,11 @@
 // The progressive meshes' self-reported object-space error, errorAt(level), held against
 // the deviation measured on the surfaces (a Metro-style symmetric Hausdorff distance,
-// polder::query::measureSurfaceDeviation) at random levels, for both builders. The figure
-// is an estimate (the root mean square distance to the removed vertices' planes), not a
-// bound, so the test asks what level selection relies on: the estimate stays within a fixed
-// factor of the measured distance either way (measured on this sphere: collapse claims
-// about half of it, cluster 0.55-1.15 times it), and it orders the levels as the
-// measurement does.
+// polder::query::measureSurfaceDeviation) at random levels, for both builders, and asks
+// what level selection relies on: the estimate stays within a fixed factor of the measured
+// distance, and it orders the levels as the measurement does. The collapse builder tracks
+// how far each vertex's surface has moved and claims at least the measured distance
+// (0.58-0.84 of its claim on this sphere); the cluster builder's figure is the largest
+// root mean square plane distance of a cluster, an estimate either way (0.55-1.13).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -78,7 +78,7 @@ TEST_P(ErrorEstimate, TracksTheMeasuredHausdorffDistanceAtRandomLevels) {
 
 INSTANTIATE_TEST_SUITE_P(
     Builders, ErrorEstimate,
-    ::testing::Values(Builder{"collapse", 1.3, 3.0,
+    ::testing::Values(Builder{"collapse", 0.4, 1.0,
                               [](const TriangleMesh& m, const RegionPartition& p) { return buildCollapseSteps(m, p); }},
                       Builder{"cluster", 0.4, 1.6,
                               [](const TriangleMesh& m, const RegionPartition& p) { return buildClusterSteps(m, p); }}),

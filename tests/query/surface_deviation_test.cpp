@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include <polder/query/closest_point_triangle.hpp>
+#include <polder/closest_point_triangle.hpp>
 
 namespace polder::query {
 namespace {

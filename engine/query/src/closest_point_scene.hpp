@@ -13,7 +13,7 @@
 
 #include <glm/glm.hpp>
 
-#include <polder/query/closest_point_triangle.hpp>
+#include <polder/closest_point_triangle.hpp>
 #include <polder/result.hpp>
 
 namespace polder::query::detail {

@@ -11,7 +11,7 @@
 
 #include <glm/glm.hpp>
 
-namespace polder::query {
+namespace polder {
 
 struct TrianglePoint {
   glm::dvec3 point{0.0};
@@ -98,4 +98,4 @@ inline TrianglePoint closestPointOnTriangle(const glm::dvec3& p, const glm::dvec
   return {a + v * ab + w * ac, {u, v, w}};
 }
 
-}  // namespace polder::query
+}  // namespace polder

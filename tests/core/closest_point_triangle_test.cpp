@@ -1,7 +1,7 @@
 // closestPointOnTriangle against brute force and against the exact optimality condition:
 // q is the closest point of a convex set to p exactly when (p - q) . (x - q) <= 0 for every
 // x in the set, so it suffices to check the three vertices.
-#include <polder/query/closest_point_triangle.hpp>
+#include <polder/closest_point_triangle.hpp>
 
 #include <algorithm>
 #include <array>
@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-namespace polder::query {
+namespace polder {
 namespace {
 
 constexpr double kTolerance = 1e-10;
@@ -138,4 +138,4 @@ TEST(ClosestPointOnTriangle, ThinTrianglesStayExact) {
 }
 
 }  // namespace
-}  // namespace polder::query
+}  // namespace polder
