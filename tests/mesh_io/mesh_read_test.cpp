@@ -223,6 +223,22 @@ TEST(ReadObj, DropsPointsAndLinesAndMergesObjects) {
   EXPECT_EQ(mesh.positions[mesh.indices[8]], glm::vec3(1.0f, 0.0f, 0.0f));  // -4 of 5 = vertex 2
 }
 
+TEST(ReadObj, WordsThatOnlyStartLikeStatementsAreIgnored) {
+  // Assimp picks a statement by its first letters: it would read "vp" as a vertex, "glb2"
+  // as a group and "fx" as a face, and fail on some of them after allocating their mesh.
+  ScratchDir dir;
+  const std::string plain = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n";
+  const std::string noisy =
+      "vp 0.5 0.5\nv 0 0 0\nv 1 0 0\ncstype bspline\nglb2 3 4\nv 1 1 0\nvx 7 7 7\nv 0 1 0\nfx 1 2 9\n"
+      "f 1 2 3\ncurv 0 1 1 2\nsx 1\nousemtl a\nusemtlx b\nf 1 3 4\nend\n";
+  test::writeFile(dir.file("plain.obj"), plain);
+  test::writeFile(dir.file("noisy.obj"), noisy);
+  const mesh::TriangleMesh expected = readMeshOk(dir.file("plain.obj"));
+  const mesh::TriangleMesh mesh = readMeshOk(dir.file("noisy.obj"));
+  EXPECT_EQ(mesh.positions, expected.positions);
+  EXPECT_EQ(mesh.indices, expected.indices);
+}
+
 TEST(ReadObj, IndentedLinesCommentsAndContinuations) {
   // Assimp alone would skip the indented face and fail on the comment.
   ScratchDir dir;

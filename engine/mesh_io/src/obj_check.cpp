@@ -50,12 +50,22 @@ Status checkNumbers(const std::vector<std::string_view>& tokens, std::size_t lin
   return {};
 }
 
+// Assimp picks a line's statement by its first letter or two, so "glb1 2 3" reads as a
+// group and "vp 0.5" as a vertex; statements we do not read (free-form geometry, parameter
+// vertices, comments, any unknown word) become empty lines and Assimp sees only these.
+bool passesToAssimp(std::string_view keyword) {
+  for (const std::string_view known : {"v", "vt", "vn", "f", "l", "p", "g", "o", "s", "usemtl", "mtllib"})
+    if (keyword == known) return true;
+  return false;
+}
+
 }  // namespace
 
 Result<std::string> normalizeObj(std::string_view bytes) {
   std::string text;
   text.reserve(bytes.size());
   IndexedData positions{"vertex"}, uvs{"texture coordinate"}, normals{"normal"};
+  std::size_t faceLines = 0;
   std::size_t colouredLine = 0, plainLine = 0;  // a 'v' line with and one without colour
   std::vector<std::string_view> tokens;
   std::string logical;
@@ -89,6 +99,10 @@ Result<std::string> normalizeObj(std::string_view bytes) {
       continue;
     }
     const std::string_view keyword = tokens[0];
+    if (!passesToAssimp(keyword)) {
+      text += '\n';  // keeps Assimp's line numbers
+      continue;
+    }
     const bool isData = keyword == "v" || keyword == "vt" || keyword == "vn" || keyword == "f";
     if (isData) {
       // Data lines lose trailing comments; everything else passes through unchanged.
@@ -121,6 +135,7 @@ Result<std::string> normalizeObj(std::string_view bytes) {
         return malformed(firstLine, "a normal needs 3 numbers, not " + std::to_string(tokens.size() - 1));
       ++normals.defined;
     } else if (keyword == "f") {
+      ++faceLines;
       for (std::size_t i = 1; i < tokens.size(); ++i) {
         // v, v/vt, v//vn or v/vt/vn
         std::string_view corner = tokens[i];
@@ -146,6 +161,7 @@ Result<std::string> normalizeObj(std::string_view bytes) {
   }
   for (const IndexedData* data : {&positions, &uvs, &normals})
     if (Status largest = data->checkLargest(); !largest) return largest.error();
+  if (faceLines == 0) return makeError(ErrorKind::InvalidData, "no triangles (no 'f' statement)");
   return text;
 }
 

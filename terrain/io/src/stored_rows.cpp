@@ -69,7 +69,7 @@ class ImageRows final : public StoredRows {
   ~ImageRows() override { m_input->close(); }
 
   Status read(int first, int count, std::byte* out) override {
-    if (m_bandRows <= 1) return readScanlines(first, first + count, out);
+    if (!m_tiled && m_bandRows <= 1) return readScanlines(first, first + count, out);
     for (int row = first; row < first + count;) {
       const int band = row / m_bandRows;
       if (band != m_band)

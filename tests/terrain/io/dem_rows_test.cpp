@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <string>
@@ -143,6 +144,77 @@ TEST(DemRows, TiledTiffsAndGeoTiffs) {
   DemOptions options;
   options.spacingM = 2.0;
   expectSameAsReadDem(dir.file("utm_tiled.tif"), options);
+}
+
+// An uncompressed float TIFF whose tiles are `tileWidth` x 1, written byte by byte: libtiff
+// writes tile lengths in multiples of 16 only, but reads any.
+std::string tiffOfOneRowTiles(int width, int height, int tileWidth, const std::vector<float>& northFirst) {
+  std::string bytes = "II*";
+  bytes += '\0';
+  const auto put16 = [&](std::uint32_t v) { bytes += char(v & 0xff), bytes += char(v >> 8); };
+  const auto put32 = [&](std::uint32_t v) { put16(v & 0xffff), put16(v >> 16); };
+  const int across = (width + tileWidth - 1) / tileWidth, tiles = across * height;
+  const std::uint32_t tileBytes = std::uint32_t(tileWidth) * 4, dataStart = 8;
+  put32(dataStart + std::uint32_t(tiles) * tileBytes + 8 * std::uint32_t(tiles));  // the directory, after the data
+  for (int row = 0; row < height; ++row)
+    for (int tile = 0; tile < across; ++tile)
+      for (int i = 0; i < tileWidth; ++i) {
+        const int column = std::min(tile * tileWidth + i, width - 1);
+        std::uint32_t bits;
+        std::memcpy(&bits, &northFirst[std::size_t(row) * std::size_t(width) + std::size_t(column)], 4);
+        put32(bits);
+      }
+  const std::uint32_t offsets = std::uint32_t(bytes.size());
+  for (int t = 0; t < tiles; ++t) put32(dataStart + std::uint32_t(t) * tileBytes);
+  const std::uint32_t counts = std::uint32_t(bytes.size());
+  for (int t = 0; t < tiles; ++t) put32(tileBytes);
+  const std::uint32_t entries[][4] = {{256, 3, 1, std::uint32_t(width)},
+                                      {257, 3, 1, std::uint32_t(height)},
+                                      {258, 3, 1, 32},  // bits per sample
+                                      {259, 3, 1, 1},   // no compression
+                                      {262, 3, 1, 1},   // black is zero
+                                      {277, 3, 1, 1},   // samples per pixel
+                                      {284, 3, 1, 1},   // contiguous
+                                      {322, 3, 1, std::uint32_t(tileWidth)},
+                                      {323, 3, 1, 1},
+                                      {324, 4, std::uint32_t(tiles), offsets},
+                                      {325, 4, std::uint32_t(tiles), counts},
+                                      {339, 3, 1, 3}};  // IEEE float
+  put16(std::uint32_t(std::size(entries)));
+  for (const auto& e : entries) {
+    put16(e[0]), put16(e[1]), put32(e[2]);
+    if (e[1] == 3 && e[2] == 1)
+      put16(e[3]), put16(0);
+    else
+      put32(e[3]);
+  }
+  put32(0);
+  return bytes;
+}
+
+TEST(DemRows, TilesOneRowHigh) {
+  // Read as tiles, a band of one row at a time: OpenImageIO's scanline path divides by zero
+  // on such tiles (found by fuzzing).
+  ScratchDir dir;
+  std::vector<float> hills;
+  for (int r = 0; r < 17; ++r)
+    for (int c = 0; c < 23; ++c) hills.push_back(100.0f + 1.5f * float(r) - 0.25f * float(c * c));
+  std::vector<float> southFirst;
+  for (int r = 16; r >= 0; --r)
+    southFirst.insert(southFirst.end(), hills.begin() + r * 23, hills.begin() + r * 23 + 23);
+  TIFFErrorHandler quiet = TIFFSetWarningHandler(nullptr);  // "nonstandard tile length"
+  for (const int tileWidth : {256, 16, 32}) {
+    SCOPED_TRACE(tileWidth);
+    const auto file = dir.file("tiles_" + std::to_string(tileWidth) + "x1.tif");
+    test::writeFile(file, tiffOfOneRowTiles(23, 17, tileWidth, hills));
+    {
+      auto in = OIIO::ImageInput::open(file.string());
+      ASSERT_TRUE(in) << OIIO::geterror();
+      ASSERT_EQ(in->spec().tile_height, 1);
+    }
+    EXPECT_EQ(expectSameAsReadDem(file), southFirst);
+  }
+  TIFFSetWarningHandler(quiet);
 }
 
 TEST(DemRows, OpenExr) {
