@@ -239,6 +239,19 @@ TEST(ReadObj, WordsThatOnlyStartLikeStatementsAreIgnored) {
   EXPECT_EQ(mesh.indices, expected.indices);
 }
 
+TEST(ReadObj, VertexWeightsAreDroppedAndTheNumberingKept) {
+  // Numbers apart by any blank, a weight after x y z: Assimp 5.2 alone loses vertices on
+  // such lines and then fails (and leaks) on a face that refers to the last of them (found
+  // by fuzzing).
+  ScratchDir dir;
+  const auto file = dir.file("weights.obj");
+  test::writeFile(file, "v 0 0 0\nv 1 0 0 5\nv 0\v0\f1\nv 0 \v\v10 0 1\nf 1 3 4\nf\v1 2 3\n");
+  const mesh::TriangleMesh mesh = readMeshOk(file);
+  ASSERT_EQ(mesh.triangleCount(), 2u);
+  EXPECT_EQ(mesh.positions[mesh.indices[2]], glm::vec3(0.0f, 10.0f, 0.0f));
+  EXPECT_EQ(mesh.positions[mesh.indices[4]], glm::vec3(1.0f, 0.0f, 0.0f));
+}
+
 TEST(ReadObj, IndentedLinesCommentsAndContinuations) {
   // Assimp alone would skip the indented face and fail on the comment.
   ScratchDir dir;

@@ -123,6 +123,7 @@ Result<std::string> normalizeObj(std::string_view bytes) {
         return malformed(firstLine, "vertex colours on some 'v' lines only (line " + std::to_string(colouredLine) +
                                         " has them, line " + std::to_string(plainLine) + " does not)");
       ++positions.defined;
+      if (count == 4) tokens.pop_back();  // w weighs rational curves only: a polygon's vertex is x y z
     } else if (keyword == "vt") {
       if (Status numbers = checkNumbers(tokens, firstLine); !numbers) return numbers.error();
       if (tokens.size() != 3 && tokens.size() != 4)
@@ -156,7 +157,11 @@ Result<std::string> normalizeObj(std::string_view bytes) {
           if (Status vn = normals.reference(parts[2], firstLine); !vn) return vn.error();
       }
     }
-    text.append(line);
+    if (isData) {  // one space between tokens: Assimp splits on spaces and tabs only
+      for (std::size_t i = 0; i < tokens.size(); ++i) (i ? text += ' ' : text).append(tokens[i]);
+    } else {
+      text.append(line);
+    }
     text += '\n';
   }
   for (const IndexedData* data : {&positions, &uvs, &normals})

@@ -6,6 +6,9 @@
 //   - a texture-coordinate or normal index out of range: Assimp drops the whole attribute;
 //   - colours on some 'v' lines only: Assimp shifts them onto the wrong vertices;
 //   - a 'v' line with other than 3, 4 or 6 numbers: Assimp skips it, renumbering the rest;
+//   - a weight after x y z (4 numbers) is dropped, and the data lines are rewritten with one
+//     space between tokens (Assimp splits on spaces and tabs only, so a vertical tab or a
+//     form feed between numbers made it lose vertices);
 //   - statements other than v, vt, vn, f, l, p, g, o, s, usemtl and mtllib: Assimp picks a
 //     statement by its first letters ("glb1 2 3" is a group), so they become empty lines;
 //   - non-numeric values, index 0 or vertex indices out of range (clear messages).
