@@ -126,7 +126,7 @@ int main(int argc, char** argv) {
   polder::Camera camera;
   camera.pitchDeg = -25.0, camera.yawDeg = 60.0, camera.farM = 4.0 * (field->extentX() + field->extentY());
   std::vector<unsigned char> pixels;
-  bool settled = false;  // holding still and a frame has changed nothing: loads are done
+  bool settled = false;  // holding still, every block resident and nothing changed: loads are done
   for (int frame = 0; frame < frames && !glfwWindowShouldClose(window); ++frame) {
     const bool still = frame >= frames / 2;  // the second half holds still: nothing to upload
     camera.position = {0.3 * field->extentX() + 40.0 * (still ? frames / 2 : frame), 0.4 * field->extentY(), cruiseM};
@@ -142,9 +142,11 @@ int main(int argc, char** argv) {
         stillUploads += settled;
       }
     }
-    // Background loads may still land in the first still frames; after a quiet one, a still
+    // Background loads may still land in the first still frames; once a still frame changed
+    // nothing, drew every block at its own level and asked the loaders for nothing, a still
     // camera must change nothing more.
-    settled = settled || (still && terrain.created.empty() && terrain.changed.empty() && terrain.retired.empty());
+    settled = settled || (still && terrain.created.empty() && terrain.changed.empty() && terrain.retired.empty() &&
+                          terrain.stats.blocksOnAncestor == 0 && terrain.stats.loadsRequested == 0);
     // One matrix for all pieces: projection, rotation, the camera's fraction of a sample.
     const polder::GridSpacing spacing{field->spacingX, field->spacingY};
     const polder::GridCamera grid = polder::gridCameraOf(camera.position, spacing);
