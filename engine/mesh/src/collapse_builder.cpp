@@ -613,19 +613,15 @@ class CollapseBuilder {
   // After v went onto u: v's cluster now lies on u's fan, at v's distance from it plus
   // however far v's own surface already was from the original; the fans of v's old
   // neighbours moved by that distance too, which their later collapses carry on. The sum
-  // keeps the estimate at or above the measured Hausdorff distance (error_estimate_test),
-  // where the quadric's root mean square plane distance claimed about half of it.
+  // keeps the estimate at or above the measured Hausdorff distance (error_estimate_test).
   void trackDeviation(std::uint32_t v, std::uint32_t u) {
     const glm::dvec3& p = m_vertex[v].position;
-    double nearest = 0.0;
-    bool any = false;
+    double nearest = std::numeric_limits<double>::infinity();  // u's fan keeps a triangle (collapseIsValid)
     for (std::uint32_t t : m_fan[u]) {
       const std::uint32_t* c = &m_corner[3 * t];
-      const glm::dvec3 q =
-          closestPointOnTriangle(p, m_vertex[c[0]].position, m_vertex[c[1]].position, m_vertex[c[2]].position).point;
-      const double distance = glm::length(q - p);
-      nearest = any ? std::min(nearest, distance) : distance;
-      any = true;
+      const TrianglePoint q =
+          closestPointOnTriangle(p, m_vertex[c[0]].position, m_vertex[c[1]].position, m_vertex[c[2]].position);
+      nearest = std::min(nearest, glm::length(q.point - p));
     }
     const float moved = static_cast<float>(nearest);
     m_deviation[u] = std::max(m_deviation[u], m_deviation[v] + moved);

@@ -57,24 +57,19 @@ std::string pngHeaderOnly(std::uint32_t width, std::uint32_t height) {
          pngChunk("IEND", "");
 }
 
-std::string littleEndian(std::uint64_t value, int bytes) {
-  std::string text;
-  for (int i = 0; i < bytes; ++i) text += char((value >> (8 * i)) & 0xff);
-  return text;
-}
-
 // A little-endian 8-bit grey TIFF with one strip at offset 256 of `stripBytes`, followed by
 // `present` bytes of data (fewer than the strip when truncated).
 std::string handMadeTiff(std::uint32_t width, std::uint32_t height, std::uint32_t stripBytes, std::size_t present) {
-  const std::pair<std::uint16_t, std::uint32_t> entries[] = {{256, width}, {257, height}, {258, 8},
-                                                             {259, 1},     {262, 1},      {273, 256},
-                                                             {277, 1},     {278, height}, {279, stripBytes}};
-  std::string tiff = "II*" + std::string(1, '\0') + littleEndian(8, 4) + littleEndian(9, 2);
-  for (auto [tag, value] : entries) {
-    const bool isShort = tag == 258 || tag == 259 || tag == 262 || tag == 277;
-    tiff += littleEndian(tag, 2) + littleEndian(isShort ? 3 : 4, 2) + littleEndian(1, 4) + littleEndian(value, 4);
-  }
-  tiff += littleEndian(0, 4);
+  std::string tiff = "II*" + std::string(1, '\0') + test::littleEndian(8, 4) +
+                     test::tiffDirectory({{256, 4, 1, width},
+                                          {257, 4, 1, height},
+                                          {258, 3, 1, 8},
+                                          {259, 3, 1, 1},
+                                          {262, 3, 1, 1},
+                                          {273, 4, 1, 256},
+                                          {277, 3, 1, 1},
+                                          {278, 4, 1, height},
+                                          {279, 4, 1, stripBytes}});
   tiff.resize(256, '\0');
   tiff += std::string(present, '\x40');
   return tiff;

@@ -149,26 +149,22 @@ TEST(DemRows, TiledTiffsAndGeoTiffs) {
 // An uncompressed float TIFF whose tiles are `tileWidth` x 1, written byte by byte: libtiff
 // writes tile lengths in multiples of 16 only, but reads any.
 std::string tiffOfOneRowTiles(int width, int height, int tileWidth, const std::vector<float>& northFirst) {
-  std::string bytes = "II*";
-  bytes += '\0';
-  const auto put16 = [&](std::uint32_t v) { bytes += char(v & 0xff), bytes += char(v >> 8); };
-  const auto put32 = [&](std::uint32_t v) { put16(v & 0xffff), put16(v >> 16); };
-  const int across = (width + tileWidth - 1) / tileWidth, tiles = across * height;
+  using test::littleEndian;
+  const std::uint32_t across = std::uint32_t((width + tileWidth - 1) / tileWidth),
+                      tiles = across * std::uint32_t(height);
   const std::uint32_t tileBytes = std::uint32_t(tileWidth) * 4, dataStart = 8;
-  put32(dataStart + std::uint32_t(tiles) * tileBytes + 8 * std::uint32_t(tiles));  // the directory, after the data
+  const std::uint32_t offsets = dataStart + tiles * tileBytes, counts = offsets + 4 * tiles;
+  std::string bytes = "II*" + std::string(1, '\0') + littleEndian(counts + 4 * tiles, 4);  // the directory, last
   for (int row = 0; row < height; ++row)
-    for (int tile = 0; tile < across; ++tile)
-      for (int i = 0; i < tileWidth; ++i) {
-        const int column = std::min(tile * tileWidth + i, width - 1);
-        std::uint32_t bits;
-        std::memcpy(&bits, &northFirst[std::size_t(row) * std::size_t(width) + std::size_t(column)], 4);
-        put32(bits);
-      }
-  const std::uint32_t offsets = std::uint32_t(bytes.size());
-  for (int t = 0; t < tiles; ++t) put32(dataStart + std::uint32_t(t) * tileBytes);
-  const std::uint32_t counts = std::uint32_t(bytes.size());
-  for (int t = 0; t < tiles; ++t) put32(tileBytes);
-  const std::uint32_t entries[][4] = {{256, 3, 1, std::uint32_t(width)},
+    for (int column = 0; column < int(across) * tileWidth; ++column) {
+      std::uint32_t bits;
+      std::memcpy(&bits, &northFirst[std::size_t(row) * std::size_t(width) + std::size_t(std::min(column, width - 1))],
+                  4);
+      bytes += littleEndian(bits, 4);
+    }
+  for (std::uint32_t t = 0; t < tiles; ++t) bytes += littleEndian(dataStart + t * tileBytes, 4);
+  for (std::uint32_t t = 0; t < tiles; ++t) bytes += littleEndian(tileBytes, 4);
+  return bytes + test::tiffDirectory({{256, 3, 1, std::uint32_t(width)},
                                       {257, 3, 1, std::uint32_t(height)},
                                       {258, 3, 1, 32},  // bits per sample
                                       {259, 3, 1, 1},   // no compression
@@ -177,19 +173,9 @@ std::string tiffOfOneRowTiles(int width, int height, int tileWidth, const std::v
                                       {284, 3, 1, 1},   // contiguous
                                       {322, 3, 1, std::uint32_t(tileWidth)},
                                       {323, 3, 1, 1},
-                                      {324, 4, std::uint32_t(tiles), offsets},
-                                      {325, 4, std::uint32_t(tiles), counts},
-                                      {339, 3, 1, 3}};  // IEEE float
-  put16(std::uint32_t(std::size(entries)));
-  for (const auto& e : entries) {
-    put16(e[0]), put16(e[1]), put32(e[2]);
-    if (e[1] == 3 && e[2] == 1)
-      put16(e[3]), put16(0);
-    else
-      put32(e[3]);
-  }
-  put32(0);
-  return bytes;
+                                      {324, 4, tiles, offsets},
+                                      {325, 4, tiles, counts},
+                                      {339, 3, 1, 3}});  // IEEE float
 }
 
 TEST(DemRows, TilesOneRowHigh) {

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -26,6 +27,27 @@ struct ImageLayout {
   int tile = 0;             // 0: scanlines (strips)
   std::string compression;  // "" (the format's default), "none", "zip", "lzw", ...
 };
+
+inline std::string littleEndian(std::uint64_t value, int bytes) {
+  std::string text;
+  for (int i = 0; i < bytes; ++i) text += char((value >> (8 * i)) & 0xff);
+  return text;
+}
+
+// One entry of a hand-made little-endian TIFF's directory, of SHORT (3) or LONG (4) values:
+// a single value is stored in the entry, more at offset `value`.
+struct TiffEntry {
+  std::uint16_t tag, type;
+  std::uint32_t count, value;
+};
+
+// A directory's bytes: the entry count, the entries (sorted by tag), no next directory.
+inline std::string tiffDirectory(std::initializer_list<TiffEntry> entries) {
+  std::string bytes = littleEndian(entries.size(), 2);
+  for (const TiffEntry& e : entries)
+    bytes += littleEndian(e.tag, 2) + littleEndian(e.type, 2) + littleEndian(e.count, 4) + littleEndian(e.value, 4);
+  return bytes + littleEndian(0, 4);
+}
 
 // Writes width x height pixels of `channels` values of `type`, north row first.
 inline void writeImage(const std::filesystem::path& path, int width, int height, int channels, OIIO::TypeDesc type,
