@@ -13,10 +13,10 @@ if(NOT STEP_OUTPUT MATCHES "drew 20 frames, [1-9][0-9]* pieces resident")
 endif()
 message(STATUS "embed_window: ${STEP_OUTPUT}")
 
-# The host renderer holds still for the second half: it must upload nothing then, and its
-# own drawing of the pieces must show terrain.
+# The host renderer holds still once the loaders are done: it must upload nothing in those
+# 12 frames, and its own drawing of the pieces must show terrain.
 run_step(${WORK_DIR}/build/host_renderer ${DEM} 24)
-if(NOT STEP_OUTPUT MATCHES "uploaded [1-9][0-9]* pieces, 0 while still; [1-9][0-9]* pieces held; terrain ([0-9]+)% of the last frame")
+if(NOT STEP_OUTPUT MATCHES "uploaded [1-9][0-9]* pieces, 0 in 12 settled still frames; [1-9][0-9]* pieces held; terrain ([0-9]+)% of the last frame")
   message(FATAL_ERROR "unexpected host_renderer output: ${STEP_OUTPUT}")
 endif()
 if(CMAKE_MATCH_1 LESS 30)
