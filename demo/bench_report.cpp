@@ -1,5 +1,6 @@
 #include "bench_report.hpp"
 
+#include <malloc.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -25,6 +26,16 @@ double currentRssMb() {
   long long sizePages = 0, residentPages = 0;
   if (!(statm >> sizePages >> residentPages)) return 0.0;
   return double(residentPages) * double(::sysconf(_SC_PAGESIZE)) / 1048576.0;
+}
+
+double residentMbInUse() {
+  ::malloc_trim(0);
+  return currentRssMb();
+}
+
+double heapInUseMb() {
+  const struct mallinfo2 info = ::mallinfo2();
+  return double(info.uordblks + info.hblkhd) / 1048576.0;
 }
 
 double rssDriftAfter(std::span<const RssSample> samples, int warmUpFrames) {

@@ -49,6 +49,7 @@ struct BenchArguments {
   double speedMps = 150.0;
   int blockSamples = 33;
   double cacheMb = 256.0;
+  double memoryMb = 0.0;  // 0: no overall budget, --cache-mb and the engine's own for block data
   std::string json;
   std::string scene;
   bool framesGiven = false;
@@ -100,7 +101,9 @@ Result<FlightRecord> flyMeasured(FlightRecorder& recorder, const BenchArguments&
   ProgressBar progress("flying");
   FlightHooks hooks;
   if (arguments.measureEvery > 0) rssSamples.reserve(std::size_t(arguments.frames / arguments.measureEvery + 1));
-  hooks.afterCheck = [&rssSamples](int frameIndex) { rssSamples.push_back({frameIndex, currentRssMb()}); };
+  hooks.afterCheck = [&rssSamples](int frameIndex) {
+    rssSamples.push_back({frameIndex, residentMbInUse(), heapInUseMb()});
+  };
   hooks.progress = [&progress](float fraction) { progress.update(fraction); };
   hooks.measureError = [&truth](TerrainEngine& engine, const Camera& camera) {
     return frameScreenError(engine, truth, camera);
@@ -208,12 +211,18 @@ int runBench(BenchArguments arguments) {
   options.budgetTriangles = arguments.budget;
   options.alpha = arguments.alpha;
   options.cacheBytes = std::size_t(arguments.cacheMb * 1048576.0);
+  options.memoryBudgetBytes = std::size_t(arguments.memoryMb * 1048576.0);
   Result<std::unique_ptr<TerrainEngine>> engine = makeError(ErrorKind::InvalidData, "not built");
   {
     ProgressBar progress("preparing blocks");
     engine = TerrainEngine::create(field, options, [&](float f) { progress.update(f); });
   }
-  if (!engine) return reportError(engine.error());
+  if (!engine) {
+    // The options were checked above, so a refused argument here is the memory budget.
+    if (engine.error().kind == ErrorKind::InvalidArgument && arguments.memoryMb > 0)
+      return reportError(makeError(ErrorKind::InvalidArgument, "--memory-mb: " + engine.error().message));
+    return reportError(engine.error());
+  }
 
   Camera lens;
   lens.widthPx = size->first;
@@ -246,11 +255,14 @@ int runBench(BenchArguments arguments) {
   }
 
   const double fullResolution = double(terrain::fullResolutionTriangleCount(*field));
+  const TerrainMemory held = (*engine)->memory();
+  auto mb = [](std::size_t bytes) { return double(bytes) / 1048576.0; };
   // Resident memory at the checked frames; the first tenth of the flight warms the caches up.
   const int warmUpFrames = arguments.frames / 10;
   const double rssDrift = rssDriftAfter(rssSamples, warmUpFrames);
   nlohmann::json rssJson = nlohmann::json::array();
-  for (const RssSample& sample : rssSamples) rssJson.push_back({{"frame", sample.frame}, {"mb", sample.mb}});
+  for (const RssSample& sample : rssSamples)
+    rssJson.push_back({{"frame", sample.frame}, {"mb", sample.mb}, {"heap_mb", sample.heapMb}});
   // Budget mode ends each frame within 0.9P..P; a frame over P breaks the budget.
   const bool budgetMode = arguments.mode == "budget";
   const auto framesWithinBudget = std::count_if(cached.triangles.begin(), cached.triangles.end(), [&](double t) {
@@ -320,7 +332,8 @@ int runBench(BenchArguments arguments) {
         {"max", cached.errorMaxPx},
         {"p99", cached.errorP99Px},
         {"frames_measured", cached.framesMeasured},
-        {"hole_px", cached.holePixels}}},
+        {"hole_px", cached.holePixels},
+        {"frames_with_holes", cached.framesWithHoles}}},
       {"watertight",
        {{"frames_checked", cached.framesChecked},
         {"open_edges", cached.openEdges},
@@ -330,7 +343,9 @@ int runBench(BenchArguments arguments) {
         {"frames_over_tau", cached.dikeFramesOverTau},
         {"triangles_over_tau_max", cached.dikeTrianglesOverTauMax}}},
       {"streaming",
-       {{"loads", cached.loadsArrived},
+       {{"source", "heightfield"},
+        {"memory_budget_mb", arguments.memoryMb > 0 ? nlohmann::json(arguments.memoryMb) : nlohmann::json(nullptr)},
+        {"loads", cached.loadsArrived},
         {"load_ms", percentileJson(loadMs)},
         {"load_failures", loads.failures},
         {"evictions", loads.evictions},
@@ -344,7 +359,15 @@ int runBench(BenchArguments arguments) {
        {{"peak_rss_mb", peakRssMb()},
         {"rss_mb_at_checks", rssJson},
         {"warm_up_frames", warmUpFrames},
-        {"rss_drift_after_warm_up", rssDrift}}},
+        {"rss_drift_after_warm_up", rssDrift},
+        {"engine_mb",
+         {{"heightfield", mb(held.heightfieldBytes)},
+          {"quadtree", mb(held.quadtreeBytes)},
+          {"block_hierarchies", mb(held.lodDataBytes)},
+          {"block_hierarchies_budget", mb(held.lodDataBudgetBytes)},
+          {"lod_cache", mb(held.cacheBytes)},
+          {"lod_cache_budget", mb(held.cacheBudgetBytes)},
+          {"total", mb(held.totalBytes())}}}}},
   };
   if (comparison) {
     report["compare_cache"] = {
@@ -411,6 +434,12 @@ int runBench(BenchArguments arguments) {
                 comparison->trianglesRatio);
   std::printf("%-34s %.0f MB; resident after warm-up varies by %.2f%% over %zu checks\n", "peak memory", peakRssMb(),
               100.0 * rssDrift, rssSamples.size());
+  std::printf(
+      "%-34s %.0f MB%s: heightfield %.0f, quadtree %.0f, block hierarchies %.0f of %.0f, LOD cache %.0f of %.0f\n",
+      "engine holds", mb(held.totalBytes()),
+      arguments.memoryMb > 0 ? (" of --memory-mb " + std::to_string(int(arguments.memoryMb))).c_str() : "",
+      mb(held.heightfieldBytes), mb(held.quadtreeBytes), mb(held.lodDataBytes), mb(held.lodDataBudgetBytes),
+      mb(held.cacheBytes), mb(held.cacheBudgetBytes));
 
   if (!arguments.json.empty()) {
     if (Status written = core::writeFileContents(arguments.json, report.dump(2) + "\n"); !written)
@@ -459,7 +488,13 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
   addNumberOption(*command, "--speed", arguments->speedMps, "Metres per second", rules::kSpeedMps);
   command->add_option("--block", arguments->blockSamples, "Block size in samples: 17, 33, 65 or 129")
       ->capture_default_str();
-  addNumberOption(*command, "--cache-mb", arguments->cacheMb, "LOD cache budget in MiB", rules::kCacheMb);
+  auto* cacheMb =
+      addNumberOption(*command, "--cache-mb", arguments->cacheMb, "LOD cache budget in MiB", rules::kCacheMb);
+  addNumberOption(*command, "--memory-mb", arguments->memoryMb,
+                  "One budget in MiB for the engine's heightfield, quadtree, block hierarchies and LOD cache "
+                  "(in place of --cache-mb)",
+                  rules::kMemoryMb)
+      ->excludes(cacheMb);
   command->add_option("--json", arguments->json, "Write the report here");
   command->add_option("--scene", arguments->scene,
                       "Run a scene file (terrain and mesh objects, docs/scene_format.md) instead of a DEM flight");

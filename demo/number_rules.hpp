@@ -35,6 +35,7 @@ inline constexpr NumberRule kAlpha{0.0, 16.0, false, true, ""};
 inline constexpr NumberRule kSpacingM{1e-3, 1e6, false, false, "metres"};
 inline constexpr NumberRule kZScale{-1e6, 1e6, false, false, ""};  // and not 0
 inline constexpr NumberRule kCacheMb{0.0, 1 << 20, true, false, "MiB"};
+inline constexpr NumberRule kMemoryMb{16.0, 1 << 20, true, false, "MiB"};
 inline constexpr NumberRule kRegions{1.0, 100000.0, true, false, "regions"};
 inline constexpr NumberRule kTriangles{1.0, 1e9, true, false, "triangles"};
 inline constexpr NumberRule kSamples{1.0, 1e8, true, false, "samples"};

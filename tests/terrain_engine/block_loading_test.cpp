@@ -2,6 +2,9 @@
 // a block's is resident the frame draws its resident ancestor, watertight and without a hole.
 #include <polder/terrain_engine.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include <polder/terrain/generator.hpp>
@@ -17,6 +20,16 @@ std::shared_ptr<terrain::Heightfield> generated(int size, std::uint64_t seed) {
   auto field = terrain::generateTerrain(options);
   EXPECT_TRUE(field.ok());
   return std::make_shared<terrain::Heightfield>(std::move(*field));
+}
+
+// Rough hills without erosion: cheap to make at sizes where a few MB of budget bind.
+std::shared_ptr<terrain::Heightfield> hills(int size) {
+  auto field = std::make_shared<terrain::Heightfield>(size, size, 30.0, 30.0);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+      field->at(x, y) = float(400.0 * std::sin(x * 0.013) * std::cos(y * 0.011) + 25.0 * std::sin(x * 0.31 + y * 0.17) +
+                              8.0 * std::sin(x * 1.7) * std::sin(y * 1.3));
+  return field;
 }
 
 Camera lowCamera(const terrain::Heightfield& field, double x) {
@@ -102,6 +115,48 @@ TEST(BlockLoading, ResidentHierarchiesStayWithinTheirBudget) {
   }
   EXPECT_GT((*engine)->loadStats().evictions, 0u);
   EXPECT_GT((*engine)->loadStats().loads, 100u);
+}
+
+// One memory budget: the heightfield and quadtree first, the rest split between block
+// hierarchies and the LOD cache, and each part kept within its share while flying.
+TEST(BlockLoading, OneMemoryBudgetIsSplitExactlyAndKept) {
+  auto field = hills(1025);
+  TerrainEngineOptions options;
+  options.memoryBudgetBytes = std::size_t(13) << 20;  // 4 MB of heights, 4.5 MB each for blocks
+  auto engine = TerrainEngine::create(field, options);
+  ASSERT_TRUE(engine.ok()) << engine.error().message;
+  const TerrainMemory start = (*engine)->memory();
+  EXPECT_EQ(start.heightfieldBytes, field->heights.capacity() * sizeof(float));
+  EXPECT_GT(start.quadtreeBytes, 0u);
+  EXPECT_EQ(start.heightfieldBytes + start.quadtreeBytes + start.lodDataBudgetBytes + start.cacheBudgetBytes,
+            options.memoryBudgetBytes);
+  EXPECT_LE(start.lodDataBudgetBytes, start.cacheBudgetBytes);
+  EXPECT_GE(start.lodDataBudgetBytes + 1, start.cacheBudgetBytes);
+  std::size_t peak = 0;
+  for (int frame = 0; frame < 60; ++frame) {
+    const Camera camera = lowCamera(*field, 300.0 + 220.0 * frame);
+    const TerrainFrame& result = frame % 3 == 0 ? (*engine)->updateSettled(camera) : (*engine)->update(camera);
+    const TerrainMemory held = (*engine)->memory();
+    // A hierarchy may land in the frame that evicts down to the budget (one block's worth);
+    // the LOD cache goes over only for meshes the frame is drawing, never here.
+    EXPECT_LE(held.lodDataBytes, held.lodDataBudgetBytes + 2 * (std::size_t(64) << 10)) << "frame " << frame;
+    EXPECT_LE(held.cacheBytes, held.cacheBudgetBytes) << "frame " << frame;
+    peak = std::max(peak, held.totalBytes());
+    if (frame % 6 == 0) expectCoveredAndWatertight(**engine, "frame " + std::to_string(frame));
+    (void)result;
+  }
+  EXPECT_GT((*engine)->loadStats().evictions, 0u) << "the budget must bind for this test to mean anything";
+  EXPECT_LE(peak, options.memoryBudgetBytes + 2 * (std::size_t(64) << 10));
+}
+
+TEST(BlockLoading, AMemoryBudgetTooSmallForTheHeightfieldIsRefused) {
+  auto field = generated(513, 6);
+  TerrainEngineOptions options;
+  options.memoryBudgetBytes = field->heights.size() * sizeof(float) + kLeastBlockMemoryBytes / 2;
+  auto engine = TerrainEngine::create(field, options);
+  ASSERT_FALSE(engine.ok());
+  EXPECT_EQ(engine.error().kind, ErrorKind::InvalidArgument);
+  EXPECT_NE(engine.error().message.find("memory budget"), std::string::npos) << engine.error().message;
 }
 
 }  // namespace

@@ -21,6 +21,16 @@ std::optional<glm::dvec2> project(const glm::dmat4& viewProjection, const Camera
   return glm::dvec2((clip.x / clip.w * 0.5 + 0.5) * camera.widthPx, (0.5 - clip.y / clip.w * 0.5) * camera.heightPx);
 }
 
+// A ray meets the back of a triangle in two ways: through a gap, after running under the
+// mesh, or by grazing a ridge on the silhouette, where the ridge's front and back faces share
+// the hit point. Just before the hit the first ray is under the mesh, the second above it.
+bool cameFromUnderTheMesh(const QueryScene& lodMesh, const QueryRay& ray, const RayHit& hit) {
+  const double back = std::max(1e-4 * hit.distance, 1e-3);
+  const glm::dvec3 before = hit.point - glm::normalize(ray.direction) * back;
+  const std::optional<double> surface = lodMesh.height(before.x, before.y);
+  return surface && before.z < *surface;
+}
+
 }  // namespace
 
 ScreenError measureScreenError(const QueryScene& lodMesh, const QueryScene& truth, const Camera& camera,
@@ -50,7 +60,8 @@ ScreenError measureScreenError(const QueryScene& lodMesh, const QueryScene& trut
         const auto& hit = hits[std::size_t(column)];
         if (!hit) continue;
         // RayHit::normal faces against the ray; terrain triangles face up.
-        hitLod[cell(row, column)] = hit->normal.z > 0.0 ? 1 : 2;
+        const bool fromAbove = hit->normal.z > 0.0 || !cameFromUnderTheMesh(lodMesh, rays[std::size_t(column)], *hit);
+        hitLod[cell(row, column)] = fromAbove ? 1 : 2;
         const auto trueHeight = truth.height(hit->point.x, hit->point.y);
         if (!trueHeight) continue;
         const auto drawn = project(viewProjection, camera, hit->point);

@@ -108,6 +108,7 @@ void FlightRecorder::recordFrame(int frameIndex, bool checked, const FlightHooks
   if (hooks.measureError) {
     if (const std::optional<FrameScreenError> error = hooks.measureError(m_engine, camera)) {
       record.holePixels += error->holePixels;
+      if (error->holePixels > 0) record.framesWithHoles.push_back(frameIndex);
       if (frame.stats.blocksOnAncestor > 0) {
         record.errorOnAncestorMaxPx = std::max(record.errorOnAncestorMaxPx, error->maxPx);
         record.errorOnAncestorP99Px = std::max(record.errorOnAncestorP99Px, error->p99Px);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include <polder/cache/lod_cache.hpp>
 #include <polder/cache/lru_cache.hpp>
@@ -30,6 +32,14 @@ double millisecondsSince(Clock::time_point start) {
 
 std::uint64_t nodeKey(const terrain::NodeId& node) {
   return (std::uint64_t(node.level) << 56) | (std::uint64_t(node.bx) << 28) | std::uint64_t(node.by);
+}
+
+std::size_t heightfieldBytes(const terrain::Heightfield& field) { return field.heights.capacity() * sizeof(float); }
+
+std::string megabytes(std::size_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f MB", double(bytes) / 1048576.0);
+  return text;
 }
 
 cache::LodCacheOptions cacheOptions(const TerrainEngineOptions& options) {
@@ -397,6 +407,18 @@ Result<std::unique_ptr<TerrainEngine>> TerrainEngine::create(std::shared_ptr<con
   treeOptions.pool = pool.get();
   auto quadtree = terrain::BlockQuadtree::build(*field, *layout, treeOptions);
   if (!quadtree) return quadtree.error();
+  TerrainEngineOptions budgeted = options;
+  if (options.memoryBudgetBytes > 0) {
+    const std::size_t fixed = heightfieldBytes(*field) + quadtree->memoryBytes();
+    if (options.memoryBudgetBytes < fixed + kLeastBlockMemoryBytes)
+      return makeError(ErrorKind::InvalidArgument, "a memory budget of " + megabytes(options.memoryBudgetBytes) +
+                                                       " leaves less than " + megabytes(kLeastBlockMemoryBytes) +
+                                                       " for block data after the heightfield and its quadtree (" +
+                                                       megabytes(fixed) + ")");
+    const std::size_t blockData = options.memoryBudgetBytes - fixed;
+    budgeted.lodDataBytes = blockData / 2;
+    budgeted.cacheBytes = blockData - blockData / 2;
+  }
   // The root's hierarchy, which every cut can fall back to. A root with no whole cell at its
   // stride is never drawn (selection refines it), so it needs none.
   std::unique_ptr<terrain::BlockLod> rootLod;
@@ -405,7 +427,7 @@ Result<std::unique_ptr<TerrainEngine>> TerrainEngine::create(std::shared_ptr<con
     if (!built) return built.error();
     rootLod = std::make_unique<terrain::BlockLod>(std::move(*built));
   }
-  auto impl = std::make_unique<Impl>(std::move(field), *layout, std::move(*quadtree), options, std::move(pool));
+  auto impl = std::make_unique<Impl>(std::move(field), *layout, std::move(*quadtree), budgeted, std::move(pool));
   impl->rootLod = std::move(rootLod);
   return std::unique_ptr<TerrainEngine>(new TerrainEngine(std::move(impl)));
 }
@@ -567,6 +589,18 @@ const TerrainLoadStats& TerrainEngine::loadStats() const {
   s.loadStats.residentBytes = s.lods.bytes() + (s.rootLod ? s.rootLod->memoryBytes() : 0);
   s.loadStats.loadMs = s.loadMs;
   return s.loadStats;
+}
+
+TerrainMemory TerrainEngine::memory() const {
+  const Impl& s = *m_impl;
+  TerrainMemory memory;
+  memory.heightfieldBytes = heightfieldBytes(*s.field);
+  memory.quadtreeBytes = s.quadtree.memoryBytes();
+  memory.lodDataBytes = s.lods.bytes() + (s.rootLod ? s.rootLod->memoryBytes() : 0);
+  memory.lodDataBudgetBytes = s.lods.budgetBytes();
+  memory.cacheBytes = s.meshes.bytes();
+  memory.cacheBudgetBytes = s.meshes.budgetBytes();
+  return memory;
 }
 
 void TerrainEngine::waitForLoads() {

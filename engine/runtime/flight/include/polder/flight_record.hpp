@@ -64,7 +64,8 @@ struct FlightRecord {
   double errorOnAncestorP99Px = 0.0;
   int framesChecked = 0;
   std::size_t openEdges = 0, tJunctions = 0;
-  std::size_t holePixels = 0;  // over every measured frame
+  std::size_t holePixels = 0;        // over every measured frame
+  std::vector<int> framesWithHoles;  // the measured frames that had any, in order
 };
 
 struct FlightSummary {

@@ -64,6 +64,25 @@ struct TerrainEngineOptions {
   BlockLoading loading = BlockLoading::Background;
   // Resident error hierarchies (about 22 KB a 33^2 block), least recently needed evicted.
   std::size_t lodDataBytes = std::size_t(128) << 20;
+  // One budget for what the engine holds, when non-zero: the heightfield and the quadtree
+  // count first, and what they leave is split evenly between the resident error hierarchies
+  // and the LOD cache, in place of lodDataBytes and cacheBytes. create() refuses a budget
+  // that leaves less than kLeastBlockMemoryBytes for them.
+  std::size_t memoryBudgetBytes = 0;
+};
+
+// The least a memory budget must leave for block data after the heightfield and quadtree.
+inline constexpr std::size_t kLeastBlockMemoryBytes = std::size_t(8) << 20;
+
+// What the engine holds, by part, and the budgets of the parts that have one.
+struct TerrainMemory {
+  std::size_t heightfieldBytes = 0;
+  std::size_t quadtreeBytes = 0;
+  std::size_t lodDataBytes = 0;  // resident error hierarchies, the root's included
+  std::size_t lodDataBudgetBytes = 0;
+  std::size_t cacheBytes = 0;  // the LOD cache's meshes
+  std::size_t cacheBudgetBytes = 0;
+  std::size_t totalBytes() const { return heightfieldBytes + quadtreeBytes + lodDataBytes + cacheBytes; }
 };
 
 // The loads since the engine was made.
@@ -112,6 +131,7 @@ class TerrainEngine {
   terrain::WatertightReport checkWatertight() const;
 
   const TerrainLoadStats& loadStats() const;
+  TerrainMemory memory() const;
   // Blocks until the loads the last frame asked for are built (none in Immediate mode).
   void waitForLoads();
 
