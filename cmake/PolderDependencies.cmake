@@ -65,6 +65,8 @@ endif()
 if(POLDER_BUILD_TESTS)
   find_package(GTest CONFIG REQUIRED)
   find_package(nlohmann_json 3 CONFIG REQUIRED)
+  # For the scene file's replay test without the program (the sanitized build); optional.
+  find_package(CLI11 CONFIG QUIET)
 endif()
 if(POLDER_BUILD_BENCHMARKS)
   find_package(benchmark CONFIG REQUIRED)

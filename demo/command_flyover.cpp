@@ -33,6 +33,7 @@ struct FlyoverArguments {
   std::string size = "1280x720";
   double fovDeg = 60.0;
   double tauPx = 1.0;
+  double memoryMb = 0.0;  // 0: the engine's own budgets for block data
   bool fullResolution = false;
   std::string debug;
   FlyoverOptions flight;
@@ -65,8 +66,14 @@ class FlightDrawing {
     }
     TerrainEngineOptions options;
     options.tauPx = arguments.tauPx;
+    options.memoryBudgetBytes = std::size_t(arguments.memoryMb * 1048576.0);
     auto engine = TerrainEngine::create(field, options);
-    if (!engine) return engine.error();
+    if (!engine) {
+      // The options were checked before, so a refused argument here is the memory budget.
+      if (engine.error().kind == ErrorKind::InvalidArgument && arguments.memoryMb > 0)
+        return makeError(ErrorKind::InvalidArgument, "--memory-mb: " + engine.error().message);
+      return engine.error();
+    }
     drawing.m_engine = std::move(*engine);
     drawing.m_drawer = std::make_unique<TerrainDrawer>(renderer);
     return drawing;
@@ -283,6 +290,9 @@ void addFlyoverCommand(CLI::App& app, int& exitCode) {
   addNumberOption(*command, "--fov", arguments->fovDeg, "Vertical field of view in degrees", rules::kFovDeg);
   addNumberOption(*command, "--tau", arguments->tauPx, "Screen-space error tolerance of the LOD mesh, pixels",
                   rules::kTauPx);
+  addNumberOption(*command, "--memory-mb", arguments->memoryMb,
+                  "One budget in MiB for the engine's heightfield, quadtree, block hierarchies and LOD cache",
+                  rules::kMemoryMb);
   command->add_flag("--full-res", arguments->fullResolution, "Draw every sample instead of the LOD mesh");
   command->add_option("--debug", arguments->debug, "Colouring: lod (blocks by quadtree level), dikes, wire");
   addNumberOption(*command, "--altitude", arguments->flight.altitudeM, "Metres above the ground", rules::kAltitudeM);

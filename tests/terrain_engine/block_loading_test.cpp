@@ -159,5 +159,19 @@ TEST(BlockLoading, AMemoryBudgetTooSmallForTheHeightfieldIsRefused) {
   EXPECT_NE(engine.error().message.find("memory budget"), std::string::npos) << engine.error().message;
 }
 
+TEST(BlockLoading, OnlyASettledFrameWaitsForTheLoadersAndEachWaitIsCounted) {
+  auto field = generated(513, 6);
+  auto engine = TerrainEngine::create(field);
+  ASSERT_TRUE(engine.ok());
+  std::uint64_t loadsAsked = 0;
+  for (int frame = 0; frame < 30; ++frame)
+    loadsAsked += (*engine)->update(lowCamera(*field, 300.0 + 220.0 * frame)).stats.loadsRequested;
+  ASSERT_GT(loadsAsked, 0u) << "the frames must have had something to wait for";
+  EXPECT_EQ((*engine)->loadStats().frameWaits, 0u);
+  const TerrainFrame& settled = (*engine)->updateSettled(lowCamera(*field, 9000.0));
+  EXPECT_EQ(settled.stats.blocksOnAncestor, 0u);
+  EXPECT_GT((*engine)->loadStats().frameWaits, 0u);
+}
+
 }  // namespace
 }  // namespace polder

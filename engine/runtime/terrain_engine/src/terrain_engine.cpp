@@ -177,7 +177,11 @@ struct TerrainEngine::Impl {
 
   // Takes in what the loaders finished since the last frame.
   void collectLoads(TerrainFrameStats& stats) {
-    if (!loader || !loader->collect(arrived)) return;
+    if (!loader) return;
+    if (!loader->collect(arrived)) {
+      ++loadStats.handoffsDeferred;
+      return;
+    }
     for (LoadedBlockLod& loaded : arrived) {
       if (!loaded.lod) {
         ++loadStats.failures;
@@ -256,7 +260,7 @@ struct TerrainEngine::Impl {
     // Duplicates (a node wanted now and ahead) are skipped by the loader; the list's order
     // decides which copy counts.
     stats.loadsRequested = requests.size();
-    loader->post(requests);
+    if (!loader->post(requests)) ++loadStats.handoffsDeferred;
   }
 
   // K here bounds a vertical error's pixels anywhere in the view (Camera::errorProjectionConstant).
@@ -604,7 +608,9 @@ TerrainMemory TerrainEngine::memory() const {
 }
 
 void TerrainEngine::waitForLoads() {
-  if (m_impl->loader) m_impl->loader->waitIdle();
+  if (!m_impl->loader) return;
+  ++m_impl->loadStats.frameWaits;
+  m_impl->loader->waitIdle();
 }
 const terrain::Heightfield& TerrainEngine::field() const { return *m_impl->field; }
 const terrain::BlockLayout& TerrainEngine::layout() const { return m_impl->layout; }

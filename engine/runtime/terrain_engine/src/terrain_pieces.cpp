@@ -148,23 +148,22 @@ void TerrainPieces::beginFrame() {
   m_bytesProduced = 0;
 }
 
-std::uint32_t TerrainPieces::touch(TerrainPieceKey key, std::size_t indexCount, bool& fresh) {
+std::uint32_t TerrainPieces::touch(TerrainPieceKey key, bool& fresh) {
   std::uint32_t index = m_index->find(key);
   fresh = index == kNoRecord;
   if (fresh) {
     if (!m_freeRecords.empty()) {
-      // Best fit: the free record with the least room that holds the piece, else the roomiest.
-      // Taking any free record would let every record grow to the largest piece it ever held,
-      // and the records' memory would creep up for as long as the camera finds new ground.
-      auto fit = std::lower_bound(
-          m_freeRecords.begin(), m_freeRecords.end(), indexCount,
-          [this](std::uint32_t free, std::size_t count) { return m_records[free]->indices.capacity() < count; });
-      if (fit == m_freeRecords.end()) --fit;
-      index = *fit;
-      m_freeRecords.erase(fit);
+      index = m_freeRecords.back();
+      m_freeRecords.pop_back();
     } else {
       index = std::uint32_t(m_records.size());
       m_records.push_back(std::make_unique<Record>());
+      // Room for the finest mesh a block can have, which holds a piece of dikes too: grown
+      // piece by piece instead, every record would in time grow to the largest piece it ever
+      // held, and the records' memory would creep up for as long as the camera finds new ground.
+      const std::size_t side = std::size_t(1) << m_layout.k();
+      m_records.back()->vertices.reserve((side + 1) * (side + 1));
+      m_records.back()->indices.reserve(6 * side * side);
     }
     m_records[index]->key = key;
     m_index->insert(key, index);
@@ -201,7 +200,7 @@ terrain::DikeVertex TerrainPieces::anchorOf(const terrain::NodeId& node) const {
 
 void TerrainPieces::addBlock(const terrain::NodeId& node, const terrain::BlockMesh& mesh) {
   bool fresh = false;
-  const std::uint32_t index = touch(terrainPieceKey(TerrainPieceKind::Block, node), mesh.indices.size(), fresh);
+  const std::uint32_t index = touch(terrainPieceKey(TerrainPieceKind::Block, node), fresh);
   Record& record = *m_records[index];
   bool rebuilt = fresh;
   if (fresh || record.source != mesh.revision || mesh.revision == 0) {
@@ -221,12 +220,6 @@ void TerrainPieces::addBlock(const terrain::NodeId& node, const terrain::BlockMe
 void TerrainPieces::buildBlock(Record& record, const terrain::BlockMesh& mesh) {
   const terrain::BlockFootprint& footprint = mesh.footprint;
   record.anchor = terrain::DikeVertex{footprint.x0, footprint.y0};
-  // Room for the finest mesh a block can have, once: grown one level at a time instead, a
-  // record would keep taking more as its pieces refine, and the records' memory would creep
-  // up for as long as the camera finds new ground.
-  const std::size_t side = std::size_t(1) << m_layout.k();
-  record.vertices.reserve((side + 1) * (side + 1));
-  record.indices.reserve(6 * side * side);
   record.vertices.clear();
   for (const terrain::GridVertex& v : mesh.vertices)
     record.vertices.push_back(gridVertex(m_field, footprint.x0 + v.i * footprint.stride,
@@ -261,8 +254,7 @@ void TerrainPieces::addDikes(std::span<const terrain::DikeVertex> vertices, std:
     const std::uint64_t summary = mixBits(sum ^ mixBits(xored + triangles.size()));
 
     bool fresh = false;
-    const std::uint32_t index =
-        touch(terrainPieceKey(TerrainPieceKind::Dikes, ownerNodes[owner]), 3 * triangles.size(), fresh);
+    const std::uint32_t index = touch(terrainPieceKey(TerrainPieceKind::Dikes, ownerNodes[owner]), fresh);
     Record& record = *m_records[index];
     const bool rebuilt = fresh || record.source != summary;
     if (rebuilt) {
@@ -321,11 +313,7 @@ void TerrainPieces::finishFrame() {
     m_retired.push_back(record.key);
     m_index->erase(record.key);
     record.lastFrame = 0;
-    // Kept in order of room, for touch's best fit.
-    const auto at = std::upper_bound(
-        m_freeRecords.begin(), m_freeRecords.end(), record.indices.capacity(),
-        [this](std::size_t room, std::uint32_t free) { return room < m_records[free]->indices.capacity(); });
-    m_freeRecords.insert(at, index);
+    m_freeRecords.push_back(index);
   }
   m_live.assign(m_pieceRecords.begin(), m_pieceRecords.end());
   m_lastDikeRecords.assign(m_dikeRecords.begin(), m_dikeRecords.end());

@@ -56,9 +56,8 @@ class TerrainPieces {
   struct Record;
   class KeyIndex;
 
-  // The record for `key`, marked as used this frame; `fresh` when it had none, and then a
-  // retired record with room for `indexCount` indices is taken where there is one.
-  std::uint32_t touch(TerrainPieceKey key, std::size_t indexCount, bool& fresh);
+  // The record for `key`, marked as used this frame; `fresh` when it had none.
+  std::uint32_t touch(TerrainPieceKey key, bool& fresh);
   void publish(std::uint32_t record, bool fresh, bool rebuilt);
   void buildBlock(Record& record, const terrain::BlockMesh& mesh);
   void buildDikes(Record& record, std::span<const terrain::DikeVertex> vertices, std::span<const std::uint32_t> indices,
@@ -68,7 +67,7 @@ class TerrainPieces {
   const terrain::Heightfield& m_field;
   terrain::BlockLayout m_layout;
   std::vector<std::unique_ptr<Record>> m_records;  // stable addresses: pieces point into them
-  std::vector<std::uint32_t> m_freeRecords;        // retired records, least index room first
+  std::vector<std::uint32_t> m_freeRecords;
   std::unique_ptr<KeyIndex> m_index;
   std::vector<std::uint32_t> m_live;             // records of the last finished frame
   std::vector<std::uint32_t> m_dikeRecords;      // this frame's dike pieces, in order

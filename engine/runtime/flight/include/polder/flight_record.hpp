@@ -52,6 +52,10 @@ struct FlightRecord {
   int framesOnAncestor = 0;
   std::uint64_t loadsArrived = 0;
   std::size_t residentBytesPeak = 0;
+  // Over the recorded frames (not the settled first view): times the frame thread waited for
+  // the loaders, and hand-offs put off a frame because a loader held them.
+  std::uint64_t frameWaits = 0;
+  std::uint64_t handoffsDeferred = 0;
 
   // The checked frames: screen-space error (the largest max and p99 over the frames the
   // hook measured at their selected level; frames partly on ancestors apart) and

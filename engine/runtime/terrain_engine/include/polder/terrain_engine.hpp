@@ -90,6 +90,11 @@ struct TerrainLoadStats {
   std::uint64_t loads = 0;     // hierarchies built
   std::uint64_t failures = 0;  // builds that failed: the block stays on its ancestor
   std::uint64_t evictions = 0;
+  // Times the frame thread waited for the loaders: waitForLoads(), which updateSettled()
+  // calls; update() never waits.
+  std::uint64_t frameWaits = 0;
+  // Hand-offs to or from the loaders put off to the next frame because a loader held them.
+  std::uint64_t handoffsDeferred = 0;
   std::size_t residentBlocks = 0;
   std::size_t residentBytes = 0;
   std::span<const float> loadMs;  // per load, in order; valid until the next update()
