@@ -23,6 +23,7 @@
 #include "bench_report.hpp"
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "memory_budget.hpp"
 #include "number_rules.hpp"
 #include "terrain_drawing.hpp"
 
@@ -211,18 +212,12 @@ int runBench(BenchArguments arguments) {
   options.budgetTriangles = arguments.budget;
   options.alpha = arguments.alpha;
   options.cacheBytes = std::size_t(arguments.cacheMb * 1048576.0);
-  options.memoryBudgetBytes = std::size_t(arguments.memoryMb * 1048576.0);
   Result<std::unique_ptr<TerrainEngine>> engine = makeError(ErrorKind::InvalidData, "not built");
   {
     ProgressBar progress("preparing blocks");
-    engine = TerrainEngine::create(field, options, [&](float f) { progress.update(f); });
+    engine = createEngineWithin(field, options, arguments.memoryMb, [&](float f) { progress.update(f); });
   }
-  if (!engine) {
-    // The options were checked above, so a refused argument here is the memory budget.
-    if (engine.error().kind == ErrorKind::InvalidArgument && arguments.memoryMb > 0)
-      return reportError(makeError(ErrorKind::InvalidArgument, "--memory-mb: " + engine.error().message));
-    return reportError(engine.error());
-  }
+  if (!engine) return reportError(engine.error());
 
   Camera lens;
   lens.widthPx = size->first;
@@ -353,7 +348,7 @@ int runBench(BenchArguments arguments) {
         {"holes", cached.holePixels},
         {"frame_waits", cached.frameWaits},
         {"handoffs_deferred", cached.handoffsDeferred},
-        {"resident_mb_peak", double(cached.residentBytesPeak) / 1048576.0},
+        {"resident_mb_peak", mb(cached.residentBytesPeak)},
         {"screen_error_on_ancestor_px",
          {{"max", cached.errorOnAncestorMaxPx},
           {"p99", cached.errorOnAncestorP99Px},
@@ -493,11 +488,7 @@ void addBenchCommand(CLI::App& app, int& exitCode) {
       ->capture_default_str();
   auto* cacheMb =
       addNumberOption(*command, "--cache-mb", arguments->cacheMb, "LOD cache budget in MiB", rules::kCacheMb);
-  addNumberOption(*command, "--memory-mb", arguments->memoryMb,
-                  "One budget in MiB for the engine's heightfield, quadtree, block hierarchies and LOD cache "
-                  "(in place of --cache-mb)",
-                  rules::kMemoryMb)
-      ->excludes(cacheMb);
+  addMemoryBudgetOption(*command, arguments->memoryMb)->excludes(cacheMb);
   command->add_option("--json", arguments->json, "Write the report here");
   command->add_option("--scene", arguments->scene,
                       "Run a scene file (terrain and mesh objects, docs/scene_format.md) instead of a DEM flight");

@@ -18,6 +18,7 @@
 
 #include "cli_support.hpp"
 #include "commands.hpp"
+#include "memory_budget.hpp"
 #include "number_rules.hpp"
 #include "terrain_drawing.hpp"
 
@@ -66,14 +67,8 @@ class FlightDrawing {
     }
     TerrainEngineOptions options;
     options.tauPx = arguments.tauPx;
-    options.memoryBudgetBytes = std::size_t(arguments.memoryMb * 1048576.0);
-    auto engine = TerrainEngine::create(field, options);
-    if (!engine) {
-      // The options were checked before, so a refused argument here is the memory budget.
-      if (engine.error().kind == ErrorKind::InvalidArgument && arguments.memoryMb > 0)
-        return makeError(ErrorKind::InvalidArgument, "--memory-mb: " + engine.error().message);
-      return engine.error();
-    }
+    auto engine = createEngineWithin(field, options, arguments.memoryMb);
+    if (!engine) return engine.error();
     drawing.m_engine = std::move(*engine);
     drawing.m_drawer = std::make_unique<TerrainDrawer>(renderer);
     return drawing;
@@ -290,9 +285,7 @@ void addFlyoverCommand(CLI::App& app, int& exitCode) {
   addNumberOption(*command, "--fov", arguments->fovDeg, "Vertical field of view in degrees", rules::kFovDeg);
   addNumberOption(*command, "--tau", arguments->tauPx, "Screen-space error tolerance of the LOD mesh, pixels",
                   rules::kTauPx);
-  addNumberOption(*command, "--memory-mb", arguments->memoryMb,
-                  "One budget in MiB for the engine's heightfield, quadtree, block hierarchies and LOD cache",
-                  rules::kMemoryMb);
+  addMemoryBudgetOption(*command, arguments->memoryMb);
   command->add_flag("--full-res", arguments->fullResolution, "Draw every sample instead of the LOD mesh");
   command->add_option("--debug", arguments->debug, "Colouring: lod (blocks by quadtree level), dikes, wire");
   addNumberOption(*command, "--altitude", arguments->flight.altitudeM, "Metres above the ground", rules::kAltitudeM);

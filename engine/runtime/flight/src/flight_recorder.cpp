@@ -73,8 +73,8 @@ Result<FlightRecord> FlightRecorder::fly(const FlightOptions& options, const Fli
   record.frames = options.frames;
   reserveFrames(record, std::size_t(options.frames), bool(hooks.draw));
   if (options.settleFirstFrame) (void)m_engine.updateSettled(camera(0));
-  const TerrainLoadStats before = m_engine.loadStats();
-  const std::uint64_t waitsBefore = before.frameWaits, deferredBefore = before.handoffsDeferred;
+  const std::uint64_t waitsBefore = m_engine.loadStats().frameWaits;
+  const std::uint64_t deferredBefore = m_engine.loadStats().handoffsDeferred;
   const auto flightStart = std::chrono::steady_clock::now();
   const std::chrono::duration<double> framePeriod(1.0 / kFlightFramesPerSecond);
   for (int frameIndex = 0; frameIndex < options.frames; ++frameIndex) {

@@ -175,6 +175,9 @@ struct TerrainEngine::Impl {
     return true;
   }
 
+  // The resident error hierarchies, the root's included.
+  std::size_t residentLodBytes() const { return lods.bytes() + (rootLod ? rootLod->memoryBytes() : 0); }
+
   // Takes in what the loaders finished since the last frame.
   void collectLoads(TerrainFrameStats& stats) {
     if (!loader) return;
@@ -590,7 +593,7 @@ const TerrainFrame& TerrainEngine::frame() const { return m_impl->frame; }
 const TerrainLoadStats& TerrainEngine::loadStats() const {
   Impl& s = *m_impl;
   s.loadStats.residentBlocks = s.lods.size() + (s.rootLod ? 1 : 0);
-  s.loadStats.residentBytes = s.lods.bytes() + (s.rootLod ? s.rootLod->memoryBytes() : 0);
+  s.loadStats.residentBytes = s.residentLodBytes();
   s.loadStats.loadMs = s.loadMs;
   return s.loadStats;
 }
@@ -600,7 +603,7 @@ TerrainMemory TerrainEngine::memory() const {
   TerrainMemory memory;
   memory.heightfieldBytes = heightfieldBytes(*s.field);
   memory.quadtreeBytes = s.quadtree.memoryBytes();
-  memory.lodDataBytes = s.lods.bytes() + (s.rootLod ? s.rootLod->memoryBytes() : 0);
+  memory.lodDataBytes = s.residentLodBytes();
   memory.lodDataBudgetBytes = s.lods.budgetBytes();
   memory.cacheBytes = s.meshes.bytes();
   memory.cacheBudgetBytes = s.meshes.budgetBytes();
