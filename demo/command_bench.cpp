@@ -190,6 +190,10 @@ int runBench(BenchArguments arguments) {
   if (!(arguments.fovDeg > 1.0 && arguments.fovDeg < 179.0))
     return reportError(makeError(ErrorKind::InvalidArgument, "--fov must be between 1 and 179 degrees"));
 
+  auto pyramid = arguments.preset.empty() ? pyramidToStream(arguments.dem)
+                                          : Result<std::shared_ptr<const terrain::Pyramid>>(nullptr);
+  if (!pyramid) return reportError(pyramid.error());
+  // The full resolution, streamed or not, is the truth the flight is measured against.
   auto dem = loadDem(arguments.dem);
   if (!dem) return reportError(dem.error());
   auto field = std::make_shared<terrain::Heightfield>(std::move(dem->field));
@@ -215,7 +219,7 @@ int runBench(BenchArguments arguments) {
   Result<std::unique_ptr<TerrainEngine>> engine = makeError(ErrorKind::InvalidData, "not built");
   {
     ProgressBar progress("preparing blocks");
-    engine = createEngineWithin(field, options, arguments.memoryMb, [&](float f) { progress.update(f); });
+    engine = createEngineWithin(field, *pyramid, options, arguments.memoryMb, [&](float f) { progress.update(f); });
   }
   if (!engine) return reportError(engine.error());
 
@@ -338,11 +342,12 @@ int runBench(BenchArguments arguments) {
         {"frames_over_tau", cached.dikeFramesOverTau},
         {"triangles_over_tau_max", cached.dikeTrianglesOverTauMax}}},
       {"streaming",
-       {{"source", "heightfield"},
+       {{"source", *pyramid ? "pyramid" : "heightfield"},
         {"memory_budget_mb", arguments.memoryMb > 0 ? nlohmann::json(arguments.memoryMb) : nlohmann::json(nullptr)},
         {"loads", cached.loadsArrived},
         {"load_ms", percentileJson(loadMs)},
         {"load_failures", loads.failures},
+        {"first_load_failure", loads.failures > 0 ? nlohmann::json(loads.firstFailure) : nlohmann::json(nullptr)},
         {"evictions", loads.evictions},
         {"frames_on_ancestor", cached.framesOnAncestor},
         {"holes", cached.holePixels},
@@ -359,7 +364,7 @@ int runBench(BenchArguments arguments) {
         {"warm_up_frames", warmUpFrames},
         {"rss_drift_after_warm_up", rssDrift},
         {"engine_mb",
-         {{"heightfield", mb(held.heightfieldBytes)},
+         {{"heightfield", mb(held.sourceBytes)},
           {"quadtree", mb(held.quadtreeBytes)},
           {"block_hierarchies", mb(held.lodDataBytes)},
           {"block_hierarchies_budget", mb(held.lodDataBudgetBytes)},
@@ -420,6 +425,9 @@ int runBench(BenchArguments arguments) {
     std::printf("%-34s %llu loads (%.2f ms median, %.2f p99); %d frames partly on ancestors; %.0f MB resident peak\n",
                 "block loading", static_cast<unsigned long long>(cached.loadsArrived), loadPercentiles.median,
                 loadPercentiles.p99, cached.framesOnAncestor, double(cached.residentBytesPeak) / 1048576.0);
+    if (loads.failures > 0)
+      std::printf("%-34s %llu failed, drawn from ancestors; the first: %s\n", "",
+                  static_cast<unsigned long long>(loads.failures), loads.firstFailure.c_str());
   }
   std::printf("%-34s %zu open edges, %zu T-junctions over %d frames\n", "watertight", cached.openEdges,
               cached.tJunctions, cached.framesChecked);
@@ -436,7 +444,7 @@ int runBench(BenchArguments arguments) {
       "%-34s %.0f MB%s: heightfield %.0f, quadtree %.0f, block hierarchies %.0f of %.0f, LOD cache %.0f of %.0f\n",
       "engine holds", mb(held.totalBytes()),
       arguments.memoryMb > 0 ? (" of --memory-mb " + std::to_string(int(arguments.memoryMb))).c_str() : "",
-      mb(held.heightfieldBytes), mb(held.quadtreeBytes), mb(held.lodDataBytes), mb(held.lodDataBudgetBytes),
+      mb(held.sourceBytes), mb(held.quadtreeBytes), mb(held.lodDataBytes), mb(held.lodDataBudgetBytes),
       mb(held.cacheBytes), mb(held.cacheBudgetBytes));
 
   if (!arguments.json.empty()) {

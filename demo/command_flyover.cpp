@@ -42,6 +42,7 @@ struct FlyoverArguments {
 
 struct Flight {
   std::shared_ptr<const terrain::Heightfield> field;  // shared with the LOD engine, not copied
+  std::shared_ptr<const terrain::Pyramid> pyramid;    // streamed by the LOD engine, when the DEM is one
   terrain::DemInfo info;
   std::unique_ptr<query::QueryScene> scene;
   CameraPath path;
@@ -54,6 +55,7 @@ class FlightDrawing {
  public:
   static Result<FlightDrawing> create(render::Renderer& renderer,
                                       const std::shared_ptr<const terrain::Heightfield>& field,
+                                      const std::shared_ptr<const terrain::Pyramid>& pyramid,
                                       const FlyoverArguments& arguments) {
     FlightDrawing drawing;
     auto debug = parseDebugView(arguments.debug);
@@ -67,7 +69,7 @@ class FlightDrawing {
     }
     TerrainEngineOptions options;
     options.tauPx = arguments.tauPx;
-    auto engine = createEngineWithin(field, options, arguments.memoryMb);
+    auto engine = createEngineWithin(field, pyramid, options, arguments.memoryMb);
     if (!engine) return engine.error();
     drawing.m_engine = std::move(*engine);
     drawing.m_drawer = std::make_unique<TerrainDrawer>(renderer);
@@ -102,6 +104,8 @@ class FlightDrawing {
 };
 
 Result<Flight> prepareFlight(const FlyoverArguments& arguments) {
+  auto pyramid = pyramidToStream(arguments.dem);
+  if (!pyramid) return pyramid.error();
   auto dem = loadDem(arguments.dem);
   if (!dem) return dem.error();
   auto scene = query::QueryScene::create(dem->field);
@@ -111,8 +115,12 @@ Result<Flight> prepareFlight(const FlyoverArguments& arguments) {
   auto path = makeFlyoverLoop(dem->field.extentX(), dem->field.extentY(), ground, arguments.flight);
   if (!path) return makeError(path.error().kind, arguments.dem.path + ": " + path.error().message);
   const TerrainStyle style = defaultTerrainStyle(dem->field);
-  return Flight{std::make_shared<const terrain::Heightfield>(std::move(dem->field)), std::move(dem->info),
-                std::move(*scene), std::move(*path), style};
+  return Flight{std::make_shared<const terrain::Heightfield>(std::move(dem->field)),
+                std::move(*pyramid),
+                std::move(dem->info),
+                std::move(*scene),
+                std::move(*path),
+                style};
 }
 
 int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
@@ -126,7 +134,7 @@ int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) 
   auto headless = createHeadlessRenderer(lens.widthPx, lens.heightPx);
   if (!headless) return reportError(headless.error());
   render::Renderer& renderer = *headless->renderer;
-  auto drawing = FlightDrawing::create(renderer, flight.field, arguments);
+  auto drawing = FlightDrawing::create(renderer, flight.field, flight.pyramid, arguments);
   if (!drawing) return reportError(drawing.error());
   TerrainStyle style = flight.style;
   style.wireframe = drawing->debug() == TerrainDebugView::Wire;
@@ -184,7 +192,7 @@ int runWindow(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
   if (!window) return reportError(window.error());
   auto renderer = render::Renderer::create(&platform::GlfwWindow::getProcAddress);
   if (!renderer) return reportError(renderer.error());
-  auto drawing = FlightDrawing::create(**renderer, flight.field, arguments);
+  auto drawing = FlightDrawing::create(**renderer, flight.field, flight.pyramid, arguments);
   if (!drawing) return reportError(drawing.error());
   TerrainStyle style = flight.style;
   style.wireframe = drawing->debug() == TerrainDebugView::Wire;

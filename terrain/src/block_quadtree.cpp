@@ -259,6 +259,35 @@ Result<BlockQuadtree> BlockQuadtree::build(const Heightfield& field, const Block
   return tree;
 }
 
+Result<BlockQuadtree> BlockQuadtree::fromNodes(const BlockLayout& layout, double spacingX, double spacingY,
+                                               std::vector<NodeInfo> nodes) {
+  if (!(spacingX > 0.0) || !(spacingY > 0.0))
+    return makeError(ErrorKind::InvalidArgument, "BlockQuadtree::fromNodes: the spacing must be positive");
+  BlockQuadtree tree;
+  tree.m_layout = layout;
+  tree.m_spacingX = spacingX;
+  tree.m_spacingY = spacingY;
+  std::size_t total = 0;
+  tree.m_levelOffset.resize(std::size_t(layout.rootLevel()) + 1);
+  for (int level = 0; level <= layout.rootLevel(); ++level) {
+    tree.m_levelOffset[std::size_t(level)] = total;
+    total += std::size_t(layout.nodesX(level)) * std::size_t(layout.nodesY(level));
+  }
+  if (nodes.size() != total)
+    return makeError(ErrorKind::InvalidArgument, "BlockQuadtree::fromNodes: " + std::to_string(nodes.size()) +
+                                                     " nodes for a layout of " + std::to_string(total));
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const NodeInfo& n = nodes[i];
+    const bool rangeOk = std::isfinite(n.minHeight) && std::isfinite(n.maxHeight) && n.minHeight <= n.maxHeight;
+    const bool errorsOk = n.lodError >= 0.0f && n.floorError >= 0.0f && n.dikeError >= 0.0f;
+    if (!rangeOk || !errorsOk)
+      return makeError(ErrorKind::InvalidData, "BlockQuadtree::fromNodes: node " + std::to_string(i) +
+                                                   " has an invalid height range or a negative error");
+  }
+  tree.m_nodes = std::move(nodes);
+  return tree;
+}
+
 SelectionStats BlockQuadtree::select(const Camera& camera, const SelectionOptions& options, SelectionScratch& scratch,
                                      std::vector<SelectedNode>& out, NodePredicate isResident) const {
   assert(options.tolerancePx > 0.0 && "BlockQuadtree::select: tolerancePx must be > 0");
@@ -299,7 +328,14 @@ SelectionStats BlockQuadtree::select(const Camera& camera, const SelectionOption
     if (test == FrustumTest::Outside) {
       // Culled nodes stay in the cut for the dikes, which need every node drawable at its
       // stride: an edge node that is not (infinite error) gives way to its children.
-      if (node.level > 0 && (!std::isfinite(m_nodes[nodeIndex(node)].delta()) || forced(node))) {
+      bool descend = node.level > 0 && (!std::isfinite(m_nodes[nodeIndex(node)].delta()) || forced(node));
+      if (descend && options.culledNeedResidency && isResident) {
+        for (int quadrant = 0; quadrant < 4; ++quadrant) {
+          const NodeId child = node.child(quadrant);
+          if (m_layout.exists(child) && !isResident(child)) descend = false;
+        }
+      }
+      if (descend) {
         for (int quadrant = 3; quadrant >= 0; --quadrant) {
           const NodeId child = node.child(quadrant);
           if (m_layout.exists(child)) stack.push_back(SelectionScratch::Entry{child, FrustumTest::Outside, true});
@@ -327,7 +363,8 @@ SelectionStats BlockQuadtree::select(const Camera& camera, const SelectionOption
         if (!m_layout.exists(child)) continue;  // beyond the DEM
         const FrustumTest childTest =
             test == FrustumTest::Inside ? FrustumTest::Inside : frustum.classifyRelative(relativeBox(child, eye));
-        if (childTest != FrustumTest::Outside && isResident && !isResident(child)) blocked = true;
+        const bool asked = childTest != FrustumTest::Outside || options.culledNeedResidency;
+        if (asked && isResident && !isResident(child)) blocked = true;
         children[childCount++] = SelectionScratch::Entry{child, childTest, true};
       }
       refine = !blocked;

@@ -23,6 +23,11 @@ constexpr std::size_t kWindowAhead = 24;
 
 }  // namespace
 
+float ExactDikeError::error(const DikeVertex& a, const DikeVertex& b, const DikeVertex& c,
+                            const DikeTriangleRef&) const {
+  return dikeTriangleError(m_field, a, b, c);
+}
+
 void DikeErrorCache::beginPass(std::size_t triangles) {
   std::swap(m_previous, m_current);
   m_current.clear();
@@ -39,7 +44,8 @@ void DikeErrorCache::reserveTable(std::size_t triangles) {
   }
 }
 
-const DikeErrorCache::Triangle& DikeErrorCache::lookUp(const DikeVertex& a, const DikeVertex& b, const DikeVertex& c) {
+const DikeErrorCache::Triangle& DikeErrorCache::lookUp(const DikeVertex& a, const DikeVertex& b, const DikeVertex& c,
+                                                       const DikeTriangleRef& where) {
   const std::size_t lo = m_cursor > kWindowBehind ? m_cursor - kWindowBehind : 0;
   const std::size_t hi = std::min(m_previous.size(), m_cursor + kWindowAhead);
   std::size_t found = m_previous.size();
@@ -57,12 +63,15 @@ const DikeErrorCache::Triangle& DikeErrorCache::lookUp(const DikeVertex& a, cons
     m_current.push_back(m_previous[found]);
     return m_current.back();
   }
-  const float za = m_field.at(a.x, a.y), zb = m_field.at(b.x, b.y), zc = m_field.at(c.x, c.y);
-  m_current.push_back(Triangle{{a, b, c}, rememberedError(a, b, c), std::min({za, zb, zc}), std::max({za, zb, zc})});
+  const float za = m_measure.height(a, where.vertices[0]), zb = m_measure.height(b, where.vertices[1]),
+              zc = m_measure.height(c, where.vertices[2]);
+  m_current.push_back(
+      Triangle{{a, b, c}, rememberedError(a, b, c, where), std::min({za, zb, zc}), std::max({za, zb, zc})});
   return m_current.back();
 }
 
-float DikeErrorCache::rememberedError(const DikeVertex& a, const DikeVertex& b, const DikeVertex& c) {
+float DikeErrorCache::rememberedError(const DikeVertex& a, const DikeVertex& b, const DikeVertex& c,
+                                      const DikeTriangleRef& where) {
   if (m_entries.empty()) reserveTable(0);
   // One key per triangle whatever vertex it starts at: the least vertex first (the winding,
   // counter-clockwise for every dike triangle, is kept).
@@ -80,7 +89,7 @@ float DikeErrorCache::rememberedError(const DikeVertex& a, const DikeVertex& b, 
     if (entry.v[0] == v[0] && entry.v[1] == v[1] && entry.v[2] == v[2]) return entry.error;
     slot = (slot + 1) & mask;
   }
-  const float error = dikeTriangleError(m_field, v[0], v[1], v[2]);
+  const float error = m_measure.error(a, b, c, where);
   if (2 * (m_used + 1) > m_entries.size()) {  // half full: forget, keep the memory
     std::fill(m_entries.begin(), m_entries.end(), Entry{});
     m_used = 0;

@@ -6,7 +6,7 @@
 
 namespace polder::terrain {
 
-DikeStage::DikeStage(const Heightfield& field, const BlockLayout& layout) : m_field(field), m_layout(layout) {
+DikeStage::DikeStage(const BlockLayout& layout) : m_layout(layout) {
   const std::size_t maxNodes = std::size_t(layout.nodesX(0)) * std::size_t(layout.nodesY(0));
   m_blocks.reserve(maxNodes);
   m_mesh.reserve(layout, maxNodes);

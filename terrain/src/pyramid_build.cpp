@@ -260,6 +260,38 @@ class Builder {
            node.bx;
   }
 
+  // A second bound on |full resolution - level surface| over the node's footprint, from the
+  // level-0 blocks' exact height ranges: over a block, the full resolution lies in the block's
+  // range and the level surface between the least and greatest level samples of the cells
+  // that meet the block. The sum of the levels' gaps grows with every level; this does not,
+  // and on rough terrain it is the smaller one at coarse levels.
+  double rangeResidual(const NodeId& node, const Heightfield& tile, int c0, int r0) const {
+    const int stride = m_layout.stride(node);
+    const int bx0 = int(node.bx) << node.level, by0 = int(node.by) << node.level;
+    const int bx1 = std::min(bx0 + (1 << node.level), m_layout.nodesX(0));
+    const int by1 = std::min(by0 + (1 << node.level), m_layout.nodesY(0));
+    double bound = 0.0;
+    for (int by = by0; by < by1; ++by) {
+      for (int bx = bx0; bx < bx1; ++bx) {
+        const NodeId block{0, std::uint32_t(bx), std::uint32_t(by)};
+        const SampleRect area = m_layout.footprint(block);
+        const PyramidNode& range = m_nodes[index(block)];
+        const int i0 = std::clamp(area.x0 / stride - c0, 0, tile.width - 1);
+        const int i1 = std::clamp((area.x1 + stride - 1) / stride - c0, 0, tile.width - 1);
+        const int j0 = std::clamp(area.y0 / stride - r0, 0, tile.height - 1);
+        const int j1 = std::clamp((area.y1 + stride - 1) / stride - r0, 0, tile.height - 1);
+        float lo = tile.at(i0, j0), hi = lo;
+        for (int j = j0; j <= j1; ++j)
+          for (int i = i0; i <= i1; ++i) {
+            lo = std::min(lo, tile.at(i, j));
+            hi = std::max(hi, tile.at(i, j));
+          }
+        bound = std::max({bound, double(range.maxHeight) - double(lo), double(hi) - double(range.minHeight)});
+      }
+    }
+    return bound;
+  }
+
   // Everything but the dikes' bound of node (level, bx, by), and its tile written.
   Status finishNode(const NodeId& node, std::vector<unsigned char>& slot, Heightfield& tile) {
     const LevelRows& rows = m_rows[node.level];
@@ -306,7 +338,7 @@ class Builder {
       }
       data.minHeight = lo;
       data.maxHeight = hi;
-      data.residual = roundUp(double(residual) + gap);
+      data.residual = roundUp(std::min(double(residual) + gap, rangeResidual(node, tile, c0, r0)));
     }
     data.lodError = kInfinity;  // not drawable at its stride: always refined
     data.floorError = kInfinity;

@@ -296,8 +296,9 @@ class UniformMeshBuilder {
 
   // Phase 2 and 3 (uniform_mesh.hpp).
   Status stitchUntilWithinBound() {
-    DikeStage stage(m_field, m_layout);
-    DikeErrorCache errors(m_field);
+    DikeStage stage(m_layout);
+    const ExactDikeError exact(m_field);
+    DikeErrorCache errors(exact);
     std::vector<SelectedNode> cut;
     std::vector<const BlockMesh*> meshes;
     for (std::size_t round = 1; round <= kMaxRounds; ++round) {
@@ -329,7 +330,9 @@ class UniformMeshBuilder {
         const DikeVertex& a = dikes.vertices[dikes.indices[t]];
         const DikeVertex& b = dikes.vertices[dikes.indices[t + 1]];
         const DikeVertex& c = dikes.vertices[dikes.indices[t + 2]];
-        const float e = errors.lookUp(a, b, c).error;
+        const DikeTriangleRef where{{dikes.indices[t], dikes.indices[t + 1], dikes.indices[t + 2]},
+                                    dikes.owners[t / 3]};
+        const float e = errors.lookUp(a, b, c, where).error;
         worst = std::max(worst, e);
         if (!(double(e) > m_options.maxErrorM)) continue;
         failing = true;

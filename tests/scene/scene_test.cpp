@@ -197,7 +197,7 @@ TEST(Scene, OneBudgetForTerrainAndAHundredMovingObjects) {
   Scene scene(generatedTerrain(257, 4));
   const auto shape = test::bumpySphere(40, 60);
   const int sphere = scene.addModel(model(shape, mesh::automaticPartition(shape.positions, 4), "sphere"));
-  const double extent = scene.terrain()->field().extentX();
+  const double extent = scene.terrain()->field()->extentX();
   for (int i = 0; i < 100; ++i) {
     SceneNode node;
     node.model = sphere;

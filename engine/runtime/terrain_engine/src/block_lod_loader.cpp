@@ -83,7 +83,7 @@ void BlockLodLoader::work() {
     try {
       auto built = m_build(node);
       if (built)
-        loaded.lod = std::make_unique<terrain::BlockLod>(std::move(*built));
+        loaded.lod = std::make_unique<ResidentBlock>(std::move(*built));
       else
         loaded.error = built.error().message;
     } catch (const std::exception& failure) {  // out of memory, mostly: the node stays unloaded

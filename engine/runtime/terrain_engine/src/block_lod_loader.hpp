@@ -26,6 +26,8 @@
 #include <polder/terrain/block_layout.hpp>
 #include <polder/terrain/rtin.hpp>
 
+#include "resident_block.hpp"
+
 namespace polder {
 
 struct BlockLodRequest {
@@ -35,15 +37,15 @@ struct BlockLodRequest {
 
 struct LoadedBlockLod {
   terrain::NodeId node;
-  std::unique_ptr<terrain::BlockLod> lod;  // null when the build failed
-  std::string error;                       // why, when it failed
+  std::unique_ptr<ResidentBlock> lod;  // null when the build failed
+  std::string error;                   // why, when it failed
   double buildMs = 0.0;
 };
 
 class BlockLodLoader {
  public:
   // Runs on the workers, any number at once, for one node at a time.
-  using Build = std::function<Result<terrain::BlockLod>(const terrain::NodeId&)>;
+  using Build = std::function<Result<ResidentBlock>(const terrain::NodeId&)>;
 
   // `threads`: how many builds run at once (at least one). `reserve`: the most requests one
   // post carries (more are dropped, least wanted first).

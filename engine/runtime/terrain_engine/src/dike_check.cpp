@@ -5,8 +5,9 @@
 
 namespace polder {
 
-DikeCheck::DikeCheck(const terrain::Heightfield& field, const terrain::BlockLayout& layout)
-    : m_field(field), m_layout(layout), m_errors(field) {}
+DikeCheck::DikeCheck(const terrain::DikeTriangleMeasure& measure, const terrain::BlockLayout& layout, double spacingX,
+                     double spacingY)
+    : m_layout(layout), m_spacingX(spacingX), m_spacingY(spacingY), m_errors(measure) {}
 
 void DikeCheck::reserve(std::size_t cutNodes) {
   m_nodeRepinned.reserve(cutNodes);
@@ -25,13 +26,15 @@ DikeCheckResult DikeCheck::check(const Camera& camera, double tauPx, const terra
   const terrain::DikeMesh& mesh = dikes.mesh();
   const std::span<const std::uint32_t> vertexNodes = dikes.vertexNodes();
   const std::span<const std::uint32_t> indices = dikes.visibleIndices();
+  const std::span<const std::uint32_t> owners = dikes.visibleOwners();
   const double k = camera.errorProjectionConstant();
   const double near = std::max(camera.nearM, 1e-3);
   for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
     const terrain::DikeVertex& a = mesh.vertices[indices[t]];
     const terrain::DikeVertex& b = mesh.vertices[indices[t + 1]];
     const terrain::DikeVertex& c = mesh.vertices[indices[t + 2]];
-    const terrain::DikeErrorCache::Triangle& known = m_errors.lookUp(a, b, c);
+    const terrain::DikeTriangleRef where{{indices[t], indices[t + 1], indices[t + 2]}, owners[t / 3]};
+    const terrain::DikeErrorCache::Triangle& known = m_errors.lookUp(a, b, c, where);
     const double error = known.error;
     if (!(error > 0.0)) continue;
     // K e / max(d, near) > tau  <=>  d < K e / tau (or the near plane already fails it).
@@ -41,8 +44,8 @@ DikeCheckResult DikeCheck::check(const Camera& camera, double tauPx, const terra
     if (pinReach <= near) continue;
     const int tx0 = std::min({a.x, b.x, c.x}), tx1 = std::max({a.x, b.x, c.x});
     const int ty0 = std::min({a.y, b.y, c.y}), ty1 = std::max({a.y, b.y, c.y});
-    const glm::dvec3 lo{tx0 * m_field.spacingX, ty0 * m_field.spacingY, double(known.zMin) - error};
-    const glm::dvec3 hi{tx1 * m_field.spacingX, ty1 * m_field.spacingY, double(known.zMax) + error};
+    const glm::dvec3 lo{tx0 * m_spacingX, ty0 * m_spacingY, double(known.zMin) - error};
+    const glm::dvec3 hi{tx1 * m_spacingX, ty1 * m_spacingY, double(known.zMax) + error};
     const glm::dvec3 nearest = glm::clamp(camera.position, lo, hi);
     const double distance = std::max(glm::length(nearest - camera.position), near);
     result.worstPx = std::max(result.worstPx, k * error / distance);

@@ -52,7 +52,9 @@ struct DikeCheckResult {
 
 class DikeCheck {
  public:
-  DikeCheck(const terrain::Heightfield& field, const terrain::BlockLayout& layout);
+  // Errors as `measure` gives them: exact over a heightfield, bounds from a pyramid's tiles.
+  DikeCheck(const terrain::DikeTriangleMeasure& measure, const terrain::BlockLayout& layout, double spacingX,
+            double spacingY);
   void reserve(std::size_t cutNodes);
 
   // Checks the frame's drawn dike triangles and pins the failing ones' sides in `cache`, and
@@ -72,8 +74,9 @@ class DikeCheck {
                  std::span<const terrain::SelectedNode> cut, std::span<const terrain::BlockMesh* const> cutMeshes,
                  cache::LodCache& cache);
 
-  const terrain::Heightfield& m_field;
   terrain::BlockLayout m_layout;
+  double m_spacingX = 1.0;
+  double m_spacingY = 1.0;
   terrain::DikeErrorCache m_errors;
   std::vector<std::uint8_t> m_nodeRepinned;  // per cut index
   std::vector<std::uint32_t> m_repinned;

@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
+#include <unordered_set>
 
 #include <polder/cache/lod_cache.hpp>
 #include <polder/cache/lru_cache.hpp>
@@ -18,6 +20,9 @@
 #include <polder/terrain/dike_stage.hpp>
 #include "block_lod_loader.hpp"
 #include "dike_check.hpp"
+#include "pyramid_dike_bound.hpp"
+#include "resident_block.hpp"
+#include "sample_grid.hpp"
 #include "terrain_pieces.hpp"
 
 namespace polder {
@@ -35,6 +40,25 @@ std::uint64_t nodeKey(const terrain::NodeId& node) {
 }
 
 std::size_t heightfieldBytes(const terrain::Heightfield& field) { return field.heights.capacity() * sizeof(float); }
+
+// A border of the DEM as a grid two samples wide, the border repeated: its normals slope only
+// along the border, the one direction its samples show.
+terrain::Heightfield borderGrid(std::span<const float> border, bool column, double spacingX, double spacingY) {
+  terrain::Heightfield grid;
+  grid.width = column ? 2 : int(border.size());
+  grid.height = column ? int(border.size()) : 2;
+  grid.spacingX = spacingX;
+  grid.spacingY = spacingY;
+  grid.heights.resize(2 * border.size());
+  for (std::size_t i = 0; i < border.size(); ++i) {
+    if (column) {
+      grid.heights[2 * i] = grid.heights[2 * i + 1] = border[i];
+    } else {
+      grid.heights[i] = grid.heights[border.size() + i] = border[i];
+    }
+  }
+  return grid;
+}
 
 std::string megabytes(std::size_t bytes) {
   char text[32];
@@ -55,7 +79,11 @@ cache::LodCacheOptions cacheOptions(const TerrainEngineOptions& options) {
 }  // namespace
 
 struct TerrainEngine::Impl {
+  // The height source: one of the two.
   std::shared_ptr<const terrain::Heightfield> field;
+  std::shared_ptr<const terrain::Pyramid> pyramid;
+  double spacingX = 1.0, spacingY = 1.0;
+  terrain::Heightfield eastBorder, northBorder;  // a pyramid's borders as grids (sample_grid.hpp)
   terrain::BlockLayout layout;
   terrain::BlockQuadtree quadtree;
   TerrainEngineOptions options;
@@ -64,11 +92,13 @@ struct TerrainEngine::Impl {
   // Error hierarchies of the nodes frames have needed, least recently needed evicted (the
   // selection's residency test touches every node it visits). The root's is kept apart and
   // never evicted: the cut falls back to it at worst, so it never has a hole.
-  cache::LruCache<std::uint64_t, terrain::BlockLod> lods;
-  std::unique_ptr<terrain::BlockLod> rootLod;
-  std::unique_ptr<BlockLodLoader> loader;  // BlockLoading::Background
-  std::vector<BlockLodRequest> requests;   // this frame's, handed to the loader
-  std::vector<LoadedBlockLod> arrived;     // collected from the loader
+  cache::LruCache<std::uint64_t, ResidentBlock> lods;
+  std::size_t lodBudgetBytes = 0;
+  std::unique_ptr<ResidentBlock> root;
+  std::unordered_set<std::uint64_t> failedNodes;  // loads that failed: never asked for again
+  std::unique_ptr<BlockLodLoader> loader;         // BlockLoading::Background
+  std::vector<BlockLodRequest> requests;          // this frame's, handed to the loader
+  std::vector<LoadedBlockLod> arrived;            // collected from the loader
   std::vector<float> loadMs;
   TerrainLoadStats loadStats;
   // The camera's motion, for loading ahead of it.
@@ -81,11 +111,15 @@ struct TerrainEngine::Impl {
   terrain::SelectionScratch selectionScratch;
   std::vector<terrain::SelectedNode> cut;
   std::vector<const terrain::BlockMesh*> cutMeshes;  // parallel to cut
+  std::vector<SampleGrid> cutGrids;                  // parallel to cut: where its heights are
+  DikeVertexSamples dikeSamples;
   std::vector<lod::RegionDemand> demands;
   std::vector<std::uint32_t> allocation;
   std::vector<std::size_t> visibleInCut;  // indices into cut of the visible nodes
   lod::AllocationScratch allocationScratch{0};
   terrain::DikeStage dikes;
+  std::unique_ptr<terrain::ExactDikeError> exactDikeErrors;  // a heightfield's
+  std::unique_ptr<PyramidDikeBound> pyramidDikeBounds;       // a pyramid's
   DikeCheck dikeCheck;
   struct LastCheck {  // the dike check's last run, for a frame that repeats it exactly
     Camera camera;
@@ -107,22 +141,41 @@ struct TerrainEngine::Impl {
   std::vector<terrain::NodeId> cutNodes;  // parallel to cut, for the dike pieces' owners
   std::vector<MeshData> pieceMeshes;      // frameMeshes() storage, reused
 
-  Impl(std::shared_ptr<const terrain::Heightfield> f, terrain::BlockLayout l, terrain::BlockQuadtree q,
-       const TerrainEngineOptions& o, std::unique_ptr<core::ThreadPool> p)
+  Impl(std::shared_ptr<const terrain::Heightfield> f, std::shared_ptr<const terrain::Pyramid> source,
+       terrain::BlockLayout l, terrain::BlockQuadtree q, const TerrainEngineOptions& o,
+       std::unique_ptr<core::ThreadPool> p)
       : field(std::move(f)),
+        pyramid(std::move(source)),
+        spacingX(field ? field->spacingX : pyramid->header().spacingX),
+        spacingY(field ? field->spacingY : pyramid->header().spacingY),
         layout(l),
         quadtree(std::move(q)),
         options(o),
         pool(std::move(p)),
         lods(o.lodDataBytes),
+        lodBudgetBytes(o.lodDataBytes),
         meshes(cacheOptions(o)),
-        dikes(*field, layout),
-        dikeCheck(*field, layout),
-        pieces(*field, layout) {
+        dikes(layout),
+        exactDikeErrors(field ? std::make_unique<terrain::ExactDikeError>(*field) : nullptr),
+        pyramidDikeBounds(field ? nullptr : std::make_unique<PyramidDikeBound>(*pyramid)),
+        dikeCheck(field ? static_cast<const terrain::DikeTriangleMeasure&>(*exactDikeErrors) : *pyramidDikeBounds,
+                  layout, spacingX, spacingY),
+        pieces(GridSpacing{spacingX, spacingY}, layout) {
+    if (field) {
+      const SampleGrid whole{field.get(), 0, 0, 1};
+      dikeSamples.eastBorder = dikeSamples.northBorder = whole;
+    } else {
+      eastBorder = borderGrid(pyramid->eastBorder(), true, spacingX, spacingY);
+      northBorder = borderGrid(pyramid->northBorder(), false, spacingX, spacingY);
+      dikeSamples.eastBorder = SampleGrid{&eastBorder, layout.width() - 2, 0, 1};
+      dikeSamples.northBorder = SampleGrid{&northBorder, 0, layout.height() - 2, 1};
+    }
+    dikeSamples.eastX = layout.width() - 1;
     selectionScratch.reserve(quadtree);
     const std::size_t bound = quadtree.selectionBound();
     cut.reserve(bound);
     cutMeshes.reserve(bound);
+    cutGrids.reserve(bound);
     demands.reserve(bound);
     allocation.reserve(bound);
     visibleInCut.reserve(bound);
@@ -141,24 +194,64 @@ struct TerrainEngine::Impl {
       arrived.reserve(most);
       // One core is the frame's; the rest build.
       loader = std::make_unique<BlockLodLoader>(
-          pool->threadCount() - 1,
-          [this](const terrain::NodeId& node) { return terrain::BlockLod::build(*field, layout.interior(node)); },
-          most);
+          pool->threadCount() - 1, [this](const terrain::NodeId& node) { return buildBlock(node); }, most);
     }
   }
-  ~Impl() { loader.reset(); }  // the workers' builds read the field
+  ~Impl() { loader.reset(); }  // the workers' builds read the source
 
-  // The node's hierarchy if resident; in Immediate mode built now if not. Null also for a
-  // node with no whole cell inside the DEM, which selection never draws.
-  const terrain::BlockLod* lodFor(const terrain::NodeId& node) {
-    if (node == layout.root()) return rootLod.get();
+  // What a node needs to be drawn: its hierarchy, built from the heightfield or from the
+  // node's tile (one read, checked) and residual. Any thread.
+  Result<ResidentBlock> buildBlock(const terrain::NodeId& node) const {
+    ResidentBlock block;
+    if (field) {
+      auto lod = terrain::BlockLod::build(*field, layout.interior(node));
+      if (!lod) return lod.error();
+      block.lod = std::move(*lod);
+      return block;
+    }
+    terrain::PyramidTile tile;
+    if (Status read = pyramid->readTile(node, tile); !read) return read.error();
+    auto lod = terrain::BlockLod::buildFromLevel(tile.samples, layout.interior(node), pyramid->node(node).residual);
+    if (!lod) return lod.error();
+    block.lod = std::move(*lod);
+    block.tile = std::move(tile.samples);
+    return block;
+  }
+
+  void noteFailure(const terrain::NodeId& node, const std::string& message) {
+    ++loadStats.failures;
+    if (loadStats.firstFailure.empty()) loadStats.firstFailure = message;
+    failedNodes.insert(nodeKey(node));
+  }
+
+  // The node's block if resident; in Immediate mode built now if not. Null also for a node
+  // with no whole cell inside the DEM, which selection never draws, and one whose load failed.
+  const ResidentBlock* blockFor(const terrain::NodeId& node) {
+    if (node == layout.root()) return root.get();
     const std::uint64_t key = nodeKey(node);
-    if (terrain::BlockLod* cached = lods.find(key)) return cached;
-    if (loader) return nullptr;
-    auto built = terrain::BlockLod::build(*field, layout.interior(node));
-    if (!built) return nullptr;
+    if (ResidentBlock* cached = lods.find(key)) return cached;
+    if (loader || !drawable(node) || failedNodes.count(key)) return nullptr;
+    auto built = buildBlock(node);
+    if (!built) {
+      noteFailure(node, built.error().message);
+      return nullptr;
+    }
+    ++loadStats.loads;
     const std::size_t bytes = built->memoryBytes();
     return &lods.insert(key, std::move(*built), bytes);
+  }
+  const terrain::BlockLod* lodFor(const terrain::NodeId& node) {
+    const ResidentBlock* block = blockFor(node);
+    return block ? &block->lod : nullptr;
+  }
+
+  // Where the heights of cut node `i` are: the whole heightfield, or the node's tile.
+  SampleGrid gridOf(const terrain::NodeId& node) const {
+    if (field) return SampleGrid{field.get(), 0, 0, 1};
+    const ResidentBlock* block = node == layout.root() ? root.get() : lods.peek(nodeKey(node));
+    if (!block) return SampleGrid{};
+    const terrain::SampleRect footprint = layout.footprint(node);
+    return SampleGrid{&block->tile, footprint.x0, footprint.y0, layout.stride(node)};
   }
 
   bool drawable(const terrain::NodeId& node) const { return std::isfinite(quadtree.info(node).floorDelta()); }
@@ -167,7 +260,8 @@ struct TerrainEngine::Impl {
   // its stride (a DEM-edge node) and the children it gives way to are.
   bool resident(const terrain::NodeId& node) {
     if (node == layout.root() || lods.find(nodeKey(node))) return true;
-    if (drawable(node) || node.level == 0) return false;
+    if (drawable(node)) return !loader && blockFor(node);  // Immediate: built now
+    if (node.level == 0) return false;
     for (int quadrant = 0; quadrant < 4; ++quadrant) {
       const terrain::NodeId child = node.child(quadrant);
       if (layout.exists(child) && !resident(child)) return false;
@@ -176,7 +270,7 @@ struct TerrainEngine::Impl {
   }
 
   // The resident error hierarchies, the root's included.
-  std::size_t residentLodBytes() const { return lods.bytes() + (rootLod ? rootLod->memoryBytes() : 0); }
+  std::size_t residentLodBytes() const { return lods.bytes() + (root ? root->memoryBytes() : 0); }
 
   // Takes in what the loaders finished since the last frame.
   void collectLoads(TerrainFrameStats& stats) {
@@ -187,7 +281,7 @@ struct TerrainEngine::Impl {
     }
     for (LoadedBlockLod& loaded : arrived) {
       if (!loaded.lod) {
-        ++loadStats.failures;
+        noteFailure(loaded.node, loaded.error);
         continue;
       }
       const std::size_t bytes = loaded.lod->memoryBytes();
@@ -210,7 +304,8 @@ struct TerrainEngine::Impl {
       }
       return;
     }
-    if (!lods.peek(nodeKey(node))) requests.push_back(BlockLodRequest{node, priority});
+    const std::uint64_t key = nodeKey(node);
+    if (!lods.peek(key) && !failedNodes.count(key)) requests.push_back(BlockLodRequest{node, priority});
   }
 
   // The projected error a node's absence leaves: its own, seen from `distance`.
@@ -258,6 +353,15 @@ struct TerrainEngine::Impl {
     }
     for (const terrain::SelectedNode& selected : cut)
       if (!selected.visible && selected.node != layout.root()) request(selected.node, 1e-9);
+    // A split the dike check asked for happens once the node's children are resident.
+    for (std::size_t i = 0; i < forcedSplits.size(); ++i) {
+      const terrain::NodeId& node = forcedSplits[i];
+      const double priority = projectedError(node, forcedSplitDistances[i], camera);
+      for (int quadrant = 0; quadrant < 4; ++quadrant) {
+        const terrain::NodeId child = node.child(quadrant);
+        if (layout.exists(child) && !resident(child)) request(child, priority);
+      }
+    }
     lastCameraPosition = camera.position;
     haveLastCamera = true;
     // Duplicates (a node wanted now and ahead) are skipped by the loader; the list's order
@@ -277,13 +381,19 @@ struct TerrainEngine::Impl {
     selection.tolerancePx = options.mode == LodMode::PixelError ? options.tauPx : 1.0;
     selection.errorMeasure = terrain::NodeErrorMeasure::Floor;
     if (options.mode == LodMode::PixelError) selection.forcedSplits = forcedSplits;
-    if (loader) {
+    // A pyramid's heights are only in resident tiles: the whole cut must be resident.
+    selection.culledNeedResidency = pyramid != nullptr;
+    if (loader || pyramid) {
       const auto isResident = [this](const terrain::NodeId& node) { return resident(node); };
       quadtree.select(camera, selection, selectionScratch, cut, isResident);
     } else {
       quadtree.select(camera, selection, selectionScratch, cut);
     }
     cutMeshes.assign(cut.size(), nullptr);
+    cutGrids.clear();
+    for (const terrain::SelectedNode& selected : cut) cutGrids.push_back(gridOf(selected.node));
+    dikeSamples.cut = cutGrids;
+    if (pyramidDikeBounds) pyramidDikeBounds->setFrame(cut, dikeSamples);
   }
 
   double distanceTo(const terrain::NodeId& node, const Camera& camera) const {
@@ -331,6 +441,7 @@ struct TerrainEngine::Impl {
     for (int round = 1;; ++round) {
       const bool stitched = dikes.stitch(cut, cutMeshes);
       dikesStitched |= stitched;
+      dikeSamples.vertexNodes = dikes.vertexNodes();
       // The same dikes seen from the same camera pass as they passed last time.
       if (!stitched && lastCheck.clean && camera == lastCheck.camera && options.tauPx == lastCheck.tauPx)
         return lastCheck.result;
@@ -376,11 +487,13 @@ struct TerrainEngine::Impl {
 
   void updatePieces() {
     pieces.beginFrame();
-    for (const TerrainBlockDraw& block : frame.blocks) pieces.addBlock(block.node, *block.mesh);
+    for (std::size_t i = 0; i < cut.size(); ++i)
+      if (cut[i].visible && cutMeshes[i]) pieces.addBlock(cut[i].node, *cutMeshes[i], cutGrids[i]);
     if (dikesStitched) {
       cutNodes.clear();
       for (const terrain::SelectedNode& selected : cut) cutNodes.push_back(selected.node);
-      pieces.addDikes(dikes.mesh().vertices, dikes.visibleIndices(), dikes.visibleOwners(), cutNodes);
+      dikeSamples.vertexNodes = dikes.vertexNodes();
+      pieces.addDikes(dikes.mesh().vertices, dikes.visibleIndices(), dikes.visibleOwners(), cutNodes, dikeSamples);
     } else {
       pieces.keepDikes();
     }
@@ -399,13 +512,54 @@ struct TerrainEngine::Impl {
   }
 };
 
+namespace {
+
+Status checkOptions(const TerrainEngineOptions& options) {
+  if (!(options.tauPx > 0.0) || !std::isfinite(options.tauPx))
+    return makeError(ErrorKind::InvalidArgument, "the pixel tolerance must be positive");
+  if (!(options.alpha > 0.0)) return makeError(ErrorKind::InvalidArgument, "the allocator's alpha must be positive");
+  return {};
+}
+
+// The options with the memory budget split (TerrainEngineOptions::memoryBudgetBytes) once
+// `fixed` bytes, the source and the quadtree, are counted.
+Result<TerrainEngineOptions> withinBudget(const TerrainEngineOptions& options, std::size_t fixed) {
+  TerrainEngineOptions budgeted = options;
+  if (options.memoryBudgetBytes == 0) return budgeted;
+  if (options.memoryBudgetBytes < fixed + kLeastBlockMemoryBytes)
+    return makeError(ErrorKind::InvalidArgument, "a memory budget of " + megabytes(options.memoryBudgetBytes) +
+                                                     " leaves less than " + megabytes(kLeastBlockMemoryBytes) +
+                                                     " for block data after the height source and its quadtree (" +
+                                                     megabytes(fixed) + ")");
+  const std::size_t blockData = options.memoryBudgetBytes - fixed;
+  budgeted.lodDataBytes = blockData / 2;
+  budgeted.cacheBytes = blockData - blockData / 2;
+  return budgeted;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<TerrainEngine>> TerrainEngine::assemble(std::unique_ptr<Impl> impl) {
+  // The root's block, which every cut can fall back to. A root with no whole cell at its
+  // stride is never drawn (selection refines it), so it needs none.
+  const terrain::NodeId root = impl->layout.root();
+  if (impl->drawable(root)) {
+    auto built = impl->buildBlock(root);
+    if (!built) return built.error();
+    impl->root = std::make_unique<ResidentBlock>(std::move(*built));
+  } else if (impl->pyramid) {
+    return makeError(
+        ErrorKind::InvalidData,
+        impl->pyramid->path().string() + ": the DEM is too narrow to stream (its root block has no whole cell)");
+  }
+  return std::unique_ptr<TerrainEngine>(new TerrainEngine(std::move(impl)));
+}
+
 Result<std::unique_ptr<TerrainEngine>> TerrainEngine::create(std::shared_ptr<const terrain::Heightfield> field,
                                                              const TerrainEngineOptions& options,
                                                              const std::function<void(float)>& progress) {
   if (!field) return makeError(ErrorKind::InvalidArgument, "TerrainEngine::create needs a heightfield");
-  if (!(options.tauPx > 0.0) || !std::isfinite(options.tauPx))
-    return makeError(ErrorKind::InvalidArgument, "the pixel tolerance must be positive");
-  if (!(options.alpha > 0.0)) return makeError(ErrorKind::InvalidArgument, "the allocator's alpha must be positive");
+  if (Status valid = checkOptions(options); !valid) return valid.error();
   auto layout = terrain::BlockLayout::create(field->width, field->height, options.blockK);
   if (!layout) return layout.error();
   auto pool = std::make_unique<core::ThreadPool>(options.threads);
@@ -414,29 +568,39 @@ Result<std::unique_ptr<TerrainEngine>> TerrainEngine::create(std::shared_ptr<con
   treeOptions.pool = pool.get();
   auto quadtree = terrain::BlockQuadtree::build(*field, *layout, treeOptions);
   if (!quadtree) return quadtree.error();
-  TerrainEngineOptions budgeted = options;
-  if (options.memoryBudgetBytes > 0) {
-    const std::size_t fixed = heightfieldBytes(*field) + quadtree->memoryBytes();
-    if (options.memoryBudgetBytes < fixed + kLeastBlockMemoryBytes)
-      return makeError(ErrorKind::InvalidArgument, "a memory budget of " + megabytes(options.memoryBudgetBytes) +
-                                                       " leaves less than " + megabytes(kLeastBlockMemoryBytes) +
-                                                       " for block data after the heightfield and its quadtree (" +
-                                                       megabytes(fixed) + ")");
-    const std::size_t blockData = options.memoryBudgetBytes - fixed;
-    budgeted.lodDataBytes = blockData / 2;
-    budgeted.cacheBytes = blockData - blockData / 2;
-  }
-  // The root's hierarchy, which every cut can fall back to. A root with no whole cell at its
-  // stride is never drawn (selection refines it), so it needs none.
-  std::unique_ptr<terrain::BlockLod> rootLod;
-  if (std::isfinite(quadtree->info(layout->root()).floorDelta())) {
-    auto built = terrain::BlockLod::build(*field, layout->interior(layout->root()));
-    if (!built) return built.error();
-    rootLod = std::make_unique<terrain::BlockLod>(std::move(*built));
-  }
-  auto impl = std::make_unique<Impl>(std::move(field), *layout, std::move(*quadtree), budgeted, std::move(pool));
-  impl->rootLod = std::move(rootLod);
-  return std::unique_ptr<TerrainEngine>(new TerrainEngine(std::move(impl)));
+  auto budgeted = withinBudget(options, heightfieldBytes(*field) + quadtree->memoryBytes());
+  if (!budgeted) return budgeted.error();
+  return assemble(
+      std::make_unique<Impl>(std::move(field), nullptr, *layout, std::move(*quadtree), *budgeted, std::move(pool)));
+}
+
+Result<std::unique_ptr<TerrainEngine>> TerrainEngine::create(std::shared_ptr<const terrain::Pyramid> pyramid,
+                                                             const TerrainEngineOptions& options,
+                                                             const std::function<void(float)>& progress) {
+  if (!pyramid) return makeError(ErrorKind::InvalidArgument, "TerrainEngine::create needs a pyramid");
+  if (Status valid = checkOptions(options); !valid) return valid.error();
+  const terrain::PyramidHeader& header = pyramid->header();
+  if (options.blockK != header.k)
+    return makeError(ErrorKind::InvalidArgument, pyramid->path().string() + " has blocks of " +
+                                                     std::to_string((1 << header.k) + 1) + " samples, not " +
+                                                     std::to_string((1 << options.blockK) + 1));
+  if (progress) progress(0.0f);
+  std::vector<terrain::NodeInfo> nodes;
+  nodes.reserve(pyramid->nodes().size());
+  for (const terrain::PyramidNode& node : pyramid->nodes())
+    nodes.push_back(terrain::NodeInfo{node.minHeight, node.maxHeight, node.lodError, node.floorError, 0.0f});
+  auto quadtree =
+      terrain::BlockQuadtree::fromNodes(pyramid->layout(), header.spacingX, header.spacingY, std::move(nodes));
+  if (!quadtree) return Error{quadtree.error().kind, pyramid->path().string() + ": " + quadtree.error().message};
+  const std::size_t borders = 2 * (pyramid->eastBorder().size() + pyramid->northBorder().size()) * sizeof(float);
+  auto budgeted = withinBudget(options, pyramid->memoryBytes() + borders + quadtree->memoryBytes());
+  if (!budgeted) return budgeted.error();
+  auto pool = std::make_unique<core::ThreadPool>(options.threads);
+  const terrain::BlockLayout layout = pyramid->layout();
+  auto engine = assemble(
+      std::make_unique<Impl>(nullptr, std::move(pyramid), layout, std::move(*quadtree), *budgeted, std::move(pool)));
+  if (progress) progress(1.0f);
+  return engine;
 }
 
 TerrainEngine::TerrainEngine(std::unique_ptr<Impl> impl) : m_impl(std::move(impl)) {}
@@ -466,6 +630,12 @@ std::span<const lod::RegionDemand> TerrainEngine::beginFrame(const Camera& camer
   s.dikesStitched = false;
   s.meshes.beginFrame();
   s.countersBefore = s.meshes.counters();
+  if (!s.loader) {
+    // Immediate mode builds during the frame: evict to the budget now, and nothing until the
+    // next frame, so that no block the frame has taken goes while the frame still uses it.
+    s.lods.setBudget(s.lodBudgetBytes);
+    s.lods.setBudget(std::numeric_limits<std::size_t>::max());
+  }
 
   // 1. Select: the cut of the block quadtree for this view. A node's error here is what it
   //    cannot refine (its stride's floor): the view-dependent extraction below holds
@@ -578,8 +748,7 @@ std::span<const MeshData> TerrainEngine::frameMeshes() {
     for (const GridMeshVertex& v : grid.vertices) {
       mesh.positions.emplace_back(float((offsetX + double(v.x)) * grid.spacing.x),
                                   float((offsetY + double(v.y)) * grid.spacing.y), v.z);
-      mesh.normals.push_back(
-          terrain::sampleNormal(*s.field, int(grid.anchor.x) + int(v.x), int(grid.anchor.y) + int(v.y)));
+      mesh.normals.push_back(glm::normalize(normalOf(v)));
     }
     mesh.indices.assign(grid.indices.begin(), grid.indices.end());
   }
@@ -592,7 +761,7 @@ const TerrainFrame& TerrainEngine::frame() const { return m_impl->frame; }
 
 const TerrainLoadStats& TerrainEngine::loadStats() const {
   Impl& s = *m_impl;
-  s.loadStats.residentBlocks = s.lods.size() + (s.rootLod ? 1 : 0);
+  s.loadStats.residentBlocks = s.lods.size() + (s.root ? 1 : 0);
   s.loadStats.residentBytes = s.residentLodBytes();
   s.loadStats.loadMs = s.loadMs;
   return s.loadStats;
@@ -601,10 +770,12 @@ const TerrainLoadStats& TerrainEngine::loadStats() const {
 TerrainMemory TerrainEngine::memory() const {
   const Impl& s = *m_impl;
   TerrainMemory memory;
-  memory.heightfieldBytes = heightfieldBytes(*s.field);
+  memory.sourceBytes =
+      s.field ? heightfieldBytes(*s.field)
+              : s.pyramid->memoryBytes() + heightfieldBytes(s.eastBorder) + heightfieldBytes(s.northBorder);
   memory.quadtreeBytes = s.quadtree.memoryBytes();
   memory.lodDataBytes = s.residentLodBytes();
-  memory.lodDataBudgetBytes = s.lods.budgetBytes();
+  memory.lodDataBudgetBytes = s.lodBudgetBytes;
   memory.cacheBytes = s.meshes.bytes();
   memory.cacheBudgetBytes = s.meshes.budgetBytes();
   return memory;
@@ -615,7 +786,10 @@ void TerrainEngine::waitForLoads() {
   ++m_impl->loadStats.frameWaits;
   m_impl->loader->waitIdle();
 }
-const terrain::Heightfield& TerrainEngine::field() const { return *m_impl->field; }
+const terrain::Heightfield* TerrainEngine::field() const { return m_impl->field.get(); }
+const terrain::Pyramid* TerrainEngine::pyramid() const { return m_impl->pyramid.get(); }
+double TerrainEngine::spacingX() const { return m_impl->spacingX; }
+double TerrainEngine::spacingY() const { return m_impl->spacingY; }
 const terrain::BlockLayout& TerrainEngine::layout() const { return m_impl->layout; }
 const TerrainEngineOptions& TerrainEngine::options() const { return m_impl->options; }
 

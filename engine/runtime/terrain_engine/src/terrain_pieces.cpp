@@ -5,7 +5,6 @@
 #include <utility>
 
 #include <polder/mix_bits.hpp>
-#include <polder/terrain/normals.hpp>
 
 namespace polder {
 
@@ -17,12 +16,12 @@ std::uint64_t packSample(std::int64_t x, std::int64_t y) {
   return (std::uint64_t(std::uint32_t(x)) << 32) | std::uint32_t(y);
 }
 
-GridMeshVertex gridVertex(const terrain::Heightfield& field, int x, int y, const terrain::DikeVertex& anchor) {
-  const glm::vec3 n = terrain::sampleNormal(field, x, y);
+GridMeshVertex gridVertex(const SampleGrid& samples, int x, int y, const terrain::DikeVertex& anchor) {
+  const glm::vec3 n = samples.normal(x, y);
   GridMeshVertex v;
   v.x = float(x - anchor.x);
   v.y = float(y - anchor.y);
-  v.z = field.at(x, y);
+  v.z = samples.height(x, y);
   v.nx = snorm8(n.x);
   v.ny = snorm8(n.y);
   v.nz = snorm8(n.z);
@@ -118,8 +117,8 @@ class TerrainPieces::KeyIndex {
   std::size_t m_size = 0;
 };
 
-TerrainPieces::TerrainPieces(const terrain::Heightfield& field, const terrain::BlockLayout& layout)
-    : m_field(field), m_layout(layout), m_index(std::make_unique<KeyIndex>()) {}
+TerrainPieces::TerrainPieces(GridSpacing spacing, const terrain::BlockLayout& layout)
+    : m_spacing(spacing), m_layout(layout), m_index(std::make_unique<KeyIndex>()) {}
 
 TerrainPieces::~TerrainPieces() = default;
 
@@ -186,7 +185,7 @@ void TerrainPieces::publish(std::uint32_t index, bool fresh, bool rebuilt) {
   }
   GridMeshView view;
   view.anchor = GridAnchor{record.anchor.x, record.anchor.y};
-  view.spacing = GridSpacing{m_field.spacingX, m_field.spacingY};
+  view.spacing = m_spacing;
   view.vertices = record.vertices;
   view.indices = record.indices;
   m_pieces.push_back(TerrainPiece{record.key, record.kind, record.node, record.version, view});
@@ -198,7 +197,7 @@ terrain::DikeVertex TerrainPieces::anchorOf(const terrain::NodeId& node) const {
   return terrain::DikeVertex{footprint.x0, footprint.y0};
 }
 
-void TerrainPieces::addBlock(const terrain::NodeId& node, const terrain::BlockMesh& mesh) {
+void TerrainPieces::addBlock(const terrain::NodeId& node, const terrain::BlockMesh& mesh, const SampleGrid& samples) {
   bool fresh = false;
   const std::uint32_t index = touch(terrainPieceKey(TerrainPieceKind::Block, node), fresh);
   Record& record = *m_records[index];
@@ -212,23 +211,24 @@ void TerrainPieces::addBlock(const terrain::NodeId& node, const terrain::BlockMe
   if (rebuilt) {
     record.kind = TerrainPieceKind::Block;
     record.node = node;
-    buildBlock(record, mesh);
+    buildBlock(record, mesh, samples);
   }
   publish(index, fresh, rebuilt);
 }
 
-void TerrainPieces::buildBlock(Record& record, const terrain::BlockMesh& mesh) {
+void TerrainPieces::buildBlock(Record& record, const terrain::BlockMesh& mesh, const SampleGrid& samples) {
   const terrain::BlockFootprint& footprint = mesh.footprint;
   record.anchor = terrain::DikeVertex{footprint.x0, footprint.y0};
   record.vertices.clear();
   for (const terrain::GridVertex& v : mesh.vertices)
-    record.vertices.push_back(gridVertex(m_field, footprint.x0 + v.i * footprint.stride,
+    record.vertices.push_back(gridVertex(samples, footprint.x0 + v.i * footprint.stride,
                                          footprint.y0 + v.j * footprint.stride, record.anchor));
   record.indices.assign(mesh.indices.begin(), mesh.indices.end());
 }
 
 void TerrainPieces::addDikes(std::span<const terrain::DikeVertex> vertices, std::span<const std::uint32_t> indices,
-                             std::span<const std::uint32_t> owners, std::span<const terrain::NodeId> ownerNodes) {
+                             std::span<const std::uint32_t> owners, std::span<const terrain::NodeId> ownerNodes,
+                             const DikeVertexSamples& samples) {
   assert(indices.size() == 3 * owners.size() && "TerrainPieces::addDikes: one owner per triangle");
   // Group the triangles by owner (a counting sort over the cut).
   m_ownerStart.assign(ownerNodes.size() + 1, 0);
@@ -261,7 +261,7 @@ void TerrainPieces::addDikes(std::span<const terrain::DikeVertex> vertices, std:
       record.kind = TerrainPieceKind::Dikes;
       record.node = ownerNodes[owner];
       record.source = summary;
-      buildDikes(record, vertices, indices, triangles);
+      buildDikes(record, vertices, indices, triangles, samples);
     }
     publish(index, fresh, rebuilt);
     m_dikeRecords.push_back(index);
@@ -277,7 +277,8 @@ void TerrainPieces::keepDikes() {
 }
 
 void TerrainPieces::buildDikes(Record& record, std::span<const terrain::DikeVertex> vertices,
-                               std::span<const std::uint32_t> indices, std::span<const std::uint32_t> triangles) {
+                               std::span<const std::uint32_t> indices, std::span<const std::uint32_t> triangles,
+                               const DikeVertexSamples& samples) {
   record.anchor = anchorOf(record.node);
   record.vertices.clear();
   record.indices.clear();
@@ -292,13 +293,14 @@ void TerrainPieces::buildDikes(Record& record, std::span<const terrain::DikeVert
   const std::size_t mask = m_weld.size() - 1;
   for (const std::uint32_t t : triangles) {
     for (int corner = 0; corner < 3; ++corner) {
-      const terrain::DikeVertex& g = vertices[indices[3 * t + std::size_t(corner)]];
+      const std::uint32_t vertex = indices[3 * t + std::size_t(corner)];
+      const terrain::DikeVertex& g = vertices[vertex];
       const std::uint64_t key = packSample(g.x, g.y);
       std::size_t slot = std::size_t(mixBits(key)) & mask;
       while (m_weld[slot].stamp == m_weldStamp && m_weld[slot].key != key) slot = (slot + 1) & mask;
       if (m_weld[slot].stamp != m_weldStamp) {
         m_weld[slot] = WeldSlot{key, m_weldStamp, std::uint32_t(record.vertices.size())};
-        record.vertices.push_back(gridVertex(m_field, g.x, g.y, record.anchor));
+        record.vertices.push_back(gridVertex(samples.of(vertex, g), g.x, g.y, record.anchor));
       }
       record.indices.push_back(m_weld[slot].vertex);
     }

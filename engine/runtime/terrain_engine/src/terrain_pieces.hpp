@@ -22,11 +22,13 @@
 #include <polder/terrain/heightfield.hpp>
 #include <polder/terrain_frame.hpp>
 
+#include "sample_grid.hpp"
+
 namespace polder {
 
 class TerrainPieces {
  public:
-  TerrainPieces(const terrain::Heightfield& field, const terrain::BlockLayout& layout);
+  TerrainPieces(GridSpacing spacing, const terrain::BlockLayout& layout);
   ~TerrainPieces();
   TerrainPieces(const TerrainPieces&) = delete;
   TerrainPieces& operator=(const TerrainPieces&) = delete;
@@ -36,11 +38,13 @@ class TerrainPieces {
 
   // One frame: begin, add every visible block and the visible dike triangles, finish.
   void beginFrame();
-  void addBlock(const terrain::NodeId& node, const terrain::BlockMesh& mesh);
+  // `samples` holds the block's vertices.
+  void addBlock(const terrain::NodeId& node, const terrain::BlockMesh& mesh, const SampleGrid& samples);
   // The visible dike triangles (three indices into `vertices` each) and, per triangle, the
-  // node of the cut that owns it.
+  // node of the cut that owns it; `samples` holds the vertices.
   void addDikes(std::span<const terrain::DikeVertex> vertices, std::span<const std::uint32_t> indices,
-                std::span<const std::uint32_t> owners, std::span<const terrain::NodeId> ownerNodes);
+                std::span<const std::uint32_t> owners, std::span<const terrain::NodeId> ownerNodes,
+                const DikeVertexSamples& samples);
   // The last frame's dike pieces as they were: for a frame whose dikes were not stitched
   // again (DikeStage::stitch kept them), so the same triangles need no hashing.
   void keepDikes();
@@ -59,12 +63,12 @@ class TerrainPieces {
   // The record for `key`, marked as used this frame; `fresh` when it had none.
   std::uint32_t touch(TerrainPieceKey key, bool& fresh);
   void publish(std::uint32_t record, bool fresh, bool rebuilt);
-  void buildBlock(Record& record, const terrain::BlockMesh& mesh);
+  void buildBlock(Record& record, const terrain::BlockMesh& mesh, const SampleGrid& samples);
   void buildDikes(Record& record, std::span<const terrain::DikeVertex> vertices, std::span<const std::uint32_t> indices,
-                  std::span<const std::uint32_t> triangles);
+                  std::span<const std::uint32_t> triangles, const DikeVertexSamples& samples);
   terrain::DikeVertex anchorOf(const terrain::NodeId& node) const;
 
-  const terrain::Heightfield& m_field;
+  GridSpacing m_spacing;
   terrain::BlockLayout m_layout;
   std::vector<std::unique_ptr<Record>> m_records;  // stable addresses: pieces point into them
   std::vector<std::uint32_t> m_freeRecords;

@@ -135,6 +135,10 @@ enum class NodeErrorMeasure {
 struct SelectionOptions {
   double tolerancePx = 1.0;  // tau, pixels (> 0)
   NodeErrorMeasure errorMeasure = NodeErrorMeasure::Delta;
+  // Ask isResident about culled children too, and refine a culled node (a forced split, or
+  // one not drawable at its stride) only into resident children: every node of the cut is
+  // then resident, for a caller whose heights live only in resident data (a pyramid).
+  bool culledNeedResidency = false;
   // Nodes to refine whatever their error or visibility (with their ancestors), where a check
   // after the selection found that drawing them breaks the tolerance (the engine's dike
   // check). A short list: each visited node scans it.
@@ -201,6 +205,12 @@ class BlockQuadtree {
   // node table cannot be allocated.
   static Result<BlockQuadtree> build(const Heightfield& field, const BlockLayout& layout,
                                      const BlockQuadtreeOptions& options = {});
+  // A tree whose node data was computed before, e.g. read from a pyramid (pyramid.hpp): one
+  // NodeInfo per node of `layout` in the tree's order (levels finest first, rows south first).
+  // InvalidArgument when the count differs from the layout's or a spacing is not positive;
+  // InvalidData when a node's range is not finite or inverted, or an error is negative or NaN.
+  static Result<BlockQuadtree> fromNodes(const BlockLayout& layout, double spacingX, double spacingY,
+                                         std::vector<NodeInfo> nodes);
 
   const BlockLayout& layout() const { return m_layout; }
   std::size_t nodeCount() const { return m_nodes.size(); }

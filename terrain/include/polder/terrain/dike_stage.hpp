@@ -14,7 +14,7 @@ namespace polder::terrain {
 
 class DikeStage {
  public:
-  DikeStage(const Heightfield& field, const BlockLayout& layout);
+  explicit DikeStage(const BlockLayout& layout);
 
   // Triangulates the gaps between the meshes of the cut (cutMeshes[i] for cut[i]; null for
   // a node without a mesh, which then counts as its corners). When the cut, its visibility
@@ -40,7 +40,6 @@ class DikeStage {
   WatertightReport checkWatertight() const;
 
  private:
-  const Heightfield& m_field;
   BlockLayout m_layout;
   std::vector<DikeBlock> m_blocks;
   DikeMesh m_mesh;

@@ -4,6 +4,7 @@
 // out the frame's pieces with their lifetimes (polder/terrain_frame.hpp).
 //
 //   auto engine = TerrainEngine::create(field, options);        // preprocessing, with progress
+//   auto engine = TerrainEngine::create(pyramid, options);      // or streamed from a pyramid
 //   const TerrainFrame& frame = (*engine)->update(camera);      // every frame
 //   for (std::uint32_t i : frame.created) ... upload frame.pieces[i].mesh ...
 //   for (std::uint32_t i : frame.changed) ... replace frame.pieces[i].mesh ...
@@ -18,6 +19,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <polder/camera.hpp>
@@ -28,6 +30,7 @@
 #include <polder/terrain/block_mesh.hpp>
 #include <polder/terrain/dikes.hpp>
 #include <polder/terrain/heightfield.hpp>
+#include <polder/terrain/pyramid.hpp>
 #include <polder/terrain/watertight.hpp>
 #include <polder/terrain_frame.hpp>
 
@@ -64,31 +67,34 @@ struct TerrainEngineOptions {
   BlockLoading loading = BlockLoading::Background;
   // Resident error hierarchies (about 22 KB a 33^2 block), least recently needed evicted.
   std::size_t lodDataBytes = std::size_t(128) << 20;
-  // One budget for what the engine holds, when non-zero: the heightfield and the quadtree
-  // count first, and what they leave is split evenly between the resident error hierarchies
-  // and the LOD cache, in place of lodDataBytes and cacheBytes. create() refuses a budget
-  // that leaves less than kLeastBlockMemoryBytes for them.
+  // One budget for what the engine holds, when non-zero: the height source (the heightfield,
+  // or the pyramid's node table and borders) and the quadtree count first, and what they leave is split evenly between
+  // the resident error hierarchies and the LOD cache, in place of lodDataBytes and cacheBytes. create() refuses a
+  // budget that leaves less than kLeastBlockMemoryBytes for them.
   std::size_t memoryBudgetBytes = 0;
 };
 
-// The least a memory budget must leave for block data after the heightfield and quadtree.
+// The least a memory budget must leave for block data after the height source and quadtree.
 inline constexpr std::size_t kLeastBlockMemoryBytes = std::size_t(8) << 20;
 
 // What the engine holds, by part, and the budgets of the parts that have one.
 struct TerrainMemory {
-  std::size_t heightfieldBytes = 0;
+  std::size_t sourceBytes = 0;  // the heightfield, or the pyramid's node table and borders
   std::size_t quadtreeBytes = 0;
-  std::size_t lodDataBytes = 0;  // resident error hierarchies, the root's included
+  std::size_t lodDataBytes = 0;  // resident error hierarchies (with their tiles), the root's included
   std::size_t lodDataBudgetBytes = 0;
   std::size_t cacheBytes = 0;  // the LOD cache's meshes
   std::size_t cacheBudgetBytes = 0;
-  std::size_t totalBytes() const { return heightfieldBytes + quadtreeBytes + lodDataBytes + cacheBytes; }
+  std::size_t totalBytes() const { return sourceBytes + quadtreeBytes + lodDataBytes + cacheBytes; }
 };
 
 // The loads since the engine was made.
 struct TerrainLoadStats {
-  std::uint64_t loads = 0;     // hierarchies built
-  std::uint64_t failures = 0;  // builds that failed: the block stays on its ancestor
+  std::uint64_t loads = 0;  // hierarchies built
+  // Loads that failed (a tile missing, short or corrupt, a read error): the block stays on its
+  // ancestor and is not asked for again. The first failure's message, naming the file and node.
+  std::uint64_t failures = 0;
+  std::string firstFailure;
   std::uint64_t evictions = 0;
   // Times the frame thread waited for the loaders: waitForLoads(), which updateSettled()
   // calls; update() never waits.
@@ -103,6 +109,12 @@ struct TerrainLoadStats {
 class TerrainEngine {
  public:
   static Result<std::unique_ptr<TerrainEngine>> create(std::shared_ptr<const terrain::Heightfield> field,
+                                                       const TerrainEngineOptions& options = {},
+                                                       const std::function<void(float)>& progress = {});
+  // Streams from a pyramid (docs/streaming.md): the quadtree from its node table, blocks from
+  // their tiles on the loader threads, never the full resolution. options.blockK must be the
+  // pyramid's. Fails when the root's tile cannot be read.
+  static Result<std::unique_ptr<TerrainEngine>> create(std::shared_ptr<const terrain::Pyramid> pyramid,
                                                        const TerrainEngineOptions& options = {},
                                                        const std::function<void(float)>& progress = {});
   ~TerrainEngine();
@@ -140,7 +152,12 @@ class TerrainEngine {
   // Blocks until the loads the last frame asked for are built (none in Immediate mode).
   void waitForLoads();
 
-  const terrain::Heightfield& field() const;
+  // The heightfield the engine was made from; null when it streams from a pyramid.
+  const terrain::Heightfield* field() const;
+  const terrain::Pyramid* pyramid() const;  // null for a heightfield
+  // The DEM's spacing, metres between samples.
+  double spacingX() const;
+  double spacingY() const;
   const terrain::BlockLayout& layout() const;
   const TerrainEngineOptions& options() const;
   void setOptions(const TerrainEngineOptions& options);  // tau, mode, budget, cache switch
@@ -148,6 +165,7 @@ class TerrainEngine {
  private:
   struct Impl;
   explicit TerrainEngine(std::unique_ptr<Impl> impl);
+  static Result<std::unique_ptr<TerrainEngine>> assemble(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> m_impl;
 };
 
