@@ -156,6 +156,25 @@ TEST_F(PolderProgram, PrepWritesAPyramidThatEveryCommandTakes) {
   EXPECT_EQ(render.exitCode, 0) << render.output;
   EXPECT_TRUE(std::filesystem::exists(frame));
 
+  // The bench streams the pyramid: blocks from their tiles, measured against the full
+  // resolution, at the pyramid's block size.
+  const std::string streamed = s_dir->file("pyramid_bench.json").string();
+  const ProgramRun bench = runPolder("bench " + pyramid + " --frames 30 --measure-every 10 --size 160x120 --json " +
+                                     streamed + " --memory-mb 16");
+  ASSERT_EQ(bench.exitCode, 0) << bench.output;
+  {
+    std::ifstream in(streamed);
+    const auto report = nlohmann::json::parse(in);
+    EXPECT_EQ(report["streaming"]["source"], "pyramid");
+    EXPECT_EQ(report["config"]["block_samples"], 17);
+    EXPECT_GT(report["screen_error_px"]["frames_measured"].get<int>(), 0);
+    EXPECT_LE(report["screen_error_px"]["max"].get<double>(), 1.0 + 1e-6);
+    EXPECT_EQ(report["screen_error_px"]["hole_px"], 0);
+    EXPECT_EQ(report["watertight"]["open_edges"], 0);
+    // The engine holds the pyramid's tables, not the heightfield (129 x 129 floats, 0.063 MB).
+    EXPECT_LT(report["memory"]["engine_mb"]["source"].get<double>(), 0.03);
+  }
+
   // A flipped byte in a full-resolution tile (they fill the first three quarters of the tiles)
   // is found when the tiles are read.
   std::string bytes;
