@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 
 #include <gtest/gtest.h>
 
@@ -18,6 +19,11 @@ inline terrain::Heightfield generatedTerrain(int size, std::uint64_t seed) {
   auto field = terrain::generateTerrain(options);
   EXPECT_TRUE(field.ok()) << field.error().message;
   return field.ok() ? std::move(*field) : terrain::Heightfield{};
+}
+
+// The same, shared, as the terrain engine takes it.
+inline std::shared_ptr<terrain::Heightfield> sharedGeneratedTerrain(int size, std::uint64_t seed) {
+  return std::make_shared<terrain::Heightfield>(generatedTerrain(size, seed));
 }
 
 }  // namespace polder::test

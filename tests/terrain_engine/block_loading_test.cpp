@@ -7,20 +7,10 @@
 
 #include <gtest/gtest.h>
 
-#include <polder/terrain/generator.hpp>
+#include "generated_terrain.hpp"
 
 namespace polder {
 namespace {
-
-std::shared_ptr<terrain::Heightfield> generated(int size, std::uint64_t seed) {
-  terrain::GeneratorOptions options;
-  options.size = size;
-  options.seed = seed;
-  options.spacingM = 30.0;
-  auto field = terrain::generateTerrain(options);
-  EXPECT_TRUE(field.ok());
-  return std::make_shared<terrain::Heightfield>(std::move(*field));
-}
 
 // Rough hills without erosion: cheap to make at sizes where a few MB of budget bind.
 std::shared_ptr<terrain::Heightfield> hills(int size) {
@@ -52,7 +42,7 @@ void expectCoveredAndWatertight(const TerrainEngine& engine, const std::string& 
 }
 
 TEST(BlockLoading, TheFirstFrameFallsBackToTheRootAndLaterFramesReachTheSelectedLevel) {
-  auto field = generated(513, 4);
+  auto field = test::sharedGeneratedTerrain(513, 4);
   auto engine = TerrainEngine::create(field, {});
   ASSERT_TRUE(engine.ok()) << engine.error().message;
   const Camera camera = lowCamera(*field, field->extentX() * 0.4);
@@ -79,7 +69,7 @@ TEST(BlockLoading, TheFirstFrameFallsBackToTheRootAndLaterFramesReachTheSelected
 // Settled frames draw the blocks Immediate loading draws. (Their meshes may differ: the LOD
 // cache reuses what the frames before settling built, within tau.)
 TEST(BlockLoading, SettledFramesSelectWhatImmediateLoadingSelects) {
-  auto field = generated(257, 8);
+  auto field = test::sharedGeneratedTerrain(257, 8);
   TerrainEngineOptions immediateOptions;
   immediateOptions.loading = BlockLoading::Immediate;
   auto background = TerrainEngine::create(field, {});
@@ -99,7 +89,7 @@ TEST(BlockLoading, SettledFramesSelectWhatImmediateLoadingSelects) {
 // resident bytes stay within the budget (plus the root and the one entry the cache keeps
 // over it), and every frame stays whole.
 TEST(BlockLoading, ResidentHierarchiesStayWithinTheirBudget) {
-  auto field = generated(513, 6);
+  auto field = test::sharedGeneratedTerrain(513, 6);
   TerrainEngineOptions options;
   options.lodDataBytes = std::size_t(1) << 20;
   auto engine = TerrainEngine::create(field, options);
@@ -153,7 +143,7 @@ TEST(BlockLoading, OneMemoryBudgetIsSplitExactlyAndKept) {
 }
 
 TEST(BlockLoading, AMemoryBudgetTooSmallForTheHeightfieldIsRefused) {
-  auto field = generated(513, 6);
+  auto field = test::sharedGeneratedTerrain(513, 6);
   TerrainEngineOptions options;
   options.memoryBudgetBytes = field->heights.size() * sizeof(float) + kLeastBlockMemoryBytes / 2;
   auto engine = TerrainEngine::create(field, options);
@@ -163,7 +153,7 @@ TEST(BlockLoading, AMemoryBudgetTooSmallForTheHeightfieldIsRefused) {
 }
 
 TEST(BlockLoading, OnlyASettledFrameWaitsForTheLoadersAndEachWaitIsCounted) {
-  auto field = generated(513, 6);
+  auto field = test::sharedGeneratedTerrain(513, 6);
   auto engine = TerrainEngine::create(field);
   ASSERT_TRUE(engine.ok());
   std::uint64_t loadsAsked = 0;

@@ -17,25 +17,16 @@
 
 #include <polder/query/query_scene.hpp>
 #include <polder/query/screen_error.hpp>
-#include <polder/terrain/generator.hpp>
 #include <polder/terrain/height_rows.hpp>
 #include <polder/terrain/pyramid.hpp>
 #include <polder/terrain/pyramid_build.hpp>
+
+#include "generated_terrain.hpp"
 
 namespace polder {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::shared_ptr<terrain::Heightfield> generated(int size, std::uint64_t seed) {
-  terrain::GeneratorOptions options;
-  options.size = size;
-  options.seed = seed;
-  options.spacingM = 30.0;
-  auto field = terrain::generateTerrain(options);
-  EXPECT_TRUE(field.ok());
-  return std::make_shared<terrain::Heightfield>(std::move(*field));
-}
 
 class PyramidFile {
  public:
@@ -88,7 +79,7 @@ void expectWatertight(const TerrainEngine& engine, const std::string& when) {
 }
 
 TEST(PyramidEngine, StreamsWatertightFramesOfTheDemsOwnSamplesWithinTau) {
-  auto field = generated(300, 11);  // 300 samples: edge blocks clip, edge nodes give way
+  auto field = test::sharedGeneratedTerrain(300, 11);  // 300 samples: edge blocks clip, edge nodes give way
   PyramidFile file(*field, "stream");
   auto pyramid = file.open();
   ASSERT_NE(pyramid, nullptr);
@@ -139,7 +130,7 @@ TEST(PyramidEngine, StreamsWatertightFramesOfTheDemsOwnSamplesWithinTau) {
 }
 
 TEST(PyramidEngine, ACorruptTileLeavesItsBlockOnAnAncestorCountedOnce) {
-  auto field = generated(257, 3);
+  auto field = test::sharedGeneratedTerrain(257, 3);
   PyramidFile file(*field, "corrupt");
   const terrain::NodeId victim{0, 3, 3};  // near the middle, where the camera looks
   {
@@ -178,7 +169,7 @@ TEST(PyramidEngine, ACorruptTileLeavesItsBlockOnAnAncestorCountedOnce) {
 }
 
 TEST(PyramidEngine, ABlockSizeOtherThanThePyramidsIsRefused) {
-  auto field = generated(129, 1);
+  auto field = test::sharedGeneratedTerrain(129, 1);
   PyramidFile file(*field, "k");
   TerrainEngineOptions options;
   options.blockK = 4;

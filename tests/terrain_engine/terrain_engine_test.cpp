@@ -7,24 +7,14 @@
 #include <polder/query/query_scene.hpp>
 #include <polder/query/screen_error.hpp>
 #include <polder/terrain/dem_reader.hpp>
-#include <polder/terrain/generator.hpp>
 #include <polder/terrain/heightfield_crop.hpp>
 
 #include "allocation_counter.hpp"
+#include "generated_terrain.hpp"
 #include "test_support.hpp"
 
 namespace polder {
 namespace {
-
-std::shared_ptr<terrain::Heightfield> generated(int size, std::uint64_t seed) {
-  terrain::GeneratorOptions options;
-  options.size = size;
-  options.seed = seed;
-  options.spacingM = 30.0;
-  auto field = terrain::generateTerrain(options);
-  EXPECT_TRUE(field.ok());
-  return std::make_shared<terrain::Heightfield>(std::move(*field));
-}
 
 Camera randomCamera(std::mt19937& random, const terrain::Heightfield& field) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -42,7 +32,7 @@ Camera randomCamera(std::mt19937& random, const terrain::Heightfield& field) {
 }
 
 TEST(TerrainEngine, EveryFrameIsWatertightOverRandomViews) {
-  auto field = generated(300, 5);  // 300 samples: blocks clip at the east and north edges
+  auto field = test::sharedGeneratedTerrain(300, 5);  // 300 samples: blocks clip at the east and north edges
   for (int k : {4, 5}) {
     TerrainEngineOptions options;
     options.blockK = k;
@@ -62,7 +52,7 @@ TEST(TerrainEngine, EveryFrameIsWatertightOverRandomViews) {
 }
 
 TEST(TerrainEngine, BudgetModeEndsEachFrameBetweenNinetyPercentAndTheBudget) {
-  auto field = generated(257, 9);
+  auto field = test::sharedGeneratedTerrain(257, 9);
   TerrainEngineOptions options;
   options.mode = LodMode::TriangleBudget;
   options.budgetTriangles = 20000;
@@ -127,7 +117,7 @@ double worstMeasuredError(const std::shared_ptr<terrain::Heightfield>& field, do
 // Whole frames, block and dike triangles, reused or rebuilt, hold the measured screen-space
 // error within tau: the blocks by their extraction, the dikes by the frame's dike check.
 TEST(TerrainEngine, FramesStayWithinTauOnScreenOverAGeneratedDem) {
-  auto field = generated(257, 13);
+  auto field = test::sharedGeneratedTerrain(257, 13);
   std::size_t pixels = 0, dikes = 0;
   const double worst = worstMeasuredError(field, 1.0, 16, 21, 800.0, pixels, dikes);
   EXPECT_GT(pixels, 100000u);
@@ -152,7 +142,7 @@ TEST(TerrainEngine, FramesStayWithinTauOnScreenOverARealDem) {
 }
 
 TEST(TerrainEngine, SteadyStateFramesDoNotAllocate) {
-  auto field = generated(257, 2);
+  auto field = test::sharedGeneratedTerrain(257, 2);
   auto engine = TerrainEngine::create(field, {});
   ASSERT_TRUE(engine.ok());
   Camera camera;

@@ -12,21 +12,12 @@
 
 #include <gtest/gtest.h>
 
-#include <polder/terrain/generator.hpp>
 #include <polder/terrain/watertight.hpp>
+
+#include "generated_terrain.hpp"
 
 namespace polder {
 namespace {
-
-std::shared_ptr<terrain::Heightfield> generated(int size, std::uint64_t seed) {
-  terrain::GeneratorOptions options;
-  options.size = size;
-  options.seed = seed;
-  options.spacingM = 30.0;
-  auto field = terrain::generateTerrain(options);
-  EXPECT_TRUE(field.ok());
-  return std::make_shared<terrain::Heightfield>(std::move(*field));
-}
 
 // A piece's geometry as a host would have copied it.
 struct HeldPiece {
@@ -68,7 +59,7 @@ Camera flightCamera(int frame, const terrain::Heightfield& field) {
 }
 
 void followFlight(TerrainEngineOptions options) {
-  auto field = generated(300, 4);
+  auto field = test::sharedGeneratedTerrain(300, 4);
   auto engine = TerrainEngine::create(field, options);
   ASSERT_TRUE(engine.ok()) << engine.error().message;
   std::map<std::uint64_t, HeldPiece> held;
@@ -134,7 +125,7 @@ TEST(TerrainPieces, AHostFollowingTheListsHoldsExactlyTheFramesPiecesInBudgetMod
 }
 
 TEST(TerrainPieces, AStillCameraChangesNothing) {
-  auto field = generated(257, 6);
+  auto field = test::sharedGeneratedTerrain(257, 6);
   auto engine = TerrainEngine::create(field, {});
   ASSERT_TRUE(engine.ok());
   const Camera camera = flightCamera(30, *field);
@@ -167,7 +158,7 @@ TEST(TerrainPieces, AStillCameraChangesNothing) {
 // Seen from straight above, every block is visible, so the pieces are the whole frame: on the
 // integer sample grid they cover the DEM with no open edge, and their vertices are samples.
 TEST(TerrainPieces, PiecesLieOnTheSampleGridAndCoverTheDemWatertight) {
-  auto field = generated(300, 8);
+  auto field = test::sharedGeneratedTerrain(300, 8);
   for (const LodMode mode : {LodMode::PixelError, LodMode::TriangleBudget}) {
     TerrainEngineOptions options;
     options.mode = mode;

@@ -10,46 +10,37 @@ namespace polder {
 
 namespace {
 
-std::uint64_t keyOf(const terrain::NodeId& node) {
-  return (std::uint64_t(node.level) << 56) | (std::uint64_t(node.bx) << 28) | std::uint64_t(node.by);
-}
-
 struct Point {
   double x, y;
 };
 
-// Whether the closed triangle and the closed axis-aligned square [x0, x1] x [y0, y1] meet
-// (separating axes: the square's two and the triangle's three edge normals).
-bool meets(const Point (&t)[3], double x0, double y0, double x1, double y1) {
-  if (std::max({t[0].x, t[1].x, t[2].x}) < x0 || std::min({t[0].x, t[1].x, t[2].x}) > x1) return false;
-  if (std::max({t[0].y, t[1].y, t[2].y}) < y0 || std::min({t[0].y, t[1].y, t[2].y}) > y1) return false;
-  const Point corners[4] = {{x0, y0}, {x1, y0}, {x0, y1}, {x1, y1}};
-  for (int e = 0; e < 3; ++e) {
-    const Point& p = t[e];
-    const Point& q = t[(e + 1) % 3];
-    const Point& r = t[(e + 2) % 3];
-    const double nx = q.y - p.y, ny = p.x - q.x;  // a normal of edge pq
-    const double side = nx * (r.x - p.x) + ny * (r.y - p.y);
-    bool allOutside = true;
-    for (const Point& c : corners) {
-      const double d = nx * (c.x - p.x) + ny * (c.y - p.y);
-      if (side > 0.0 ? d >= 0.0 : d <= 0.0) allOutside = false;
-    }
-    if (allOutside) return false;
-  }
-  return true;
-}
-
 struct Corner {
   double x, y;
-  float h;
+  double h;
+};
+
+// The plane z = h0 + px (x - x0) + py (y - y0) through three corners; false when they are
+// collinear.
+struct SurfacePlane {
+  Corner origin{};
+  double px = 0.0, py = 0.0;
+
+  static bool through(const Corner& a, const Corner& b, const Corner& c, SurfacePlane& out) {
+    const double ux = b.x - a.x, uy = b.y - a.y, uz = b.h - a.h;
+    const double wx = c.x - a.x, wy = c.y - a.y, wz = c.h - a.h;
+    const double det = ux * wy - uy * wx;
+    if (det == 0.0) return false;
+    out = SurfacePlane{a, (uz * wy - uy * wz) / det, (ux * wz - uz * wx) / det};
+    return true;
+  }
+  double at(double x, double y) const { return origin.h + px * (x - origin.x) + py * (y - origin.y); }
 };
 
 // The largest |plane - level triangle| over the part of `t` inside the level triangle (a, b,
 // c), counter-clockwise: both are linear there, so it is largest at a corner of the clipped
 // polygon. 0 when they do not overlap.
-template <class Plane>
-double largestDifference(const Point (&t)[3], const Plane& plane, const Corner& a, const Corner& b, const Corner& c) {
+double largestDifference(const Point (&t)[3], const SurfacePlane& plane, const Corner& a, const Corner& b,
+                         const Corner& c) {
   Point polygon[9], clipped[9];
   int count = 3;
   for (int i = 0; i < 3; ++i) polygon[i] = t[i];
@@ -74,16 +65,11 @@ double largestDifference(const Point (&t)[3], const Plane& plane, const Corner& 
     if (count == 0) return 0.0;
     for (int i = 0; i < count; ++i) polygon[i] = clipped[i];
   }
-  // The level triangle's plane.
-  const double ux = b.x - a.x, uy = b.y - a.y, uz = double(b.h) - a.h;
-  const double wx = c.x - a.x, wy = c.y - a.y, wz = double(c.h) - a.h;
-  const double det = ux * wy - uy * wx;
-  const double px = (uz * wy - uy * wz) / det, py = (ux * wz - uz * wx) / det;
+  SurfacePlane level;
+  if (!SurfacePlane::through(a, b, c, level)) return 0.0;  // never: level triangles are half cells
   double largest = 0.0;
-  for (int i = 0; i < count; ++i) {
-    const double level = double(a.h) + px * (polygon[i].x - a.x) + py * (polygon[i].y - a.y);
-    largest = std::max(largest, std::abs(plane(polygon[i].x, polygon[i].y) - level));
-  }
+  for (int i = 0; i < count; ++i)
+    largest = std::max(largest, std::abs(plane.at(polygon[i].x, polygon[i].y) - level.at(polygon[i].x, polygon[i].y)));
   return largest;
 }
 
@@ -101,7 +87,7 @@ void PyramidDikeBound::indexCut() const {
   std::fill(m_slots.begin(), m_slots.end(), Slot{});
   const std::size_t mask = m_slots.size() - 1;
   for (std::size_t i = 0; i < m_cut.size(); ++i) {
-    const std::uint64_t key = keyOf(m_cut[i].node);
+    const std::uint64_t key = terrain::nodeKey(m_cut[i].node);
     std::size_t slot = std::size_t(mixBits(key)) & mask;
     while (m_slots[slot].index != kNone) slot = (slot + 1) & mask;
     m_slots[slot] = Slot{key, std::uint32_t(i)};
@@ -116,7 +102,7 @@ std::uint32_t PyramidDikeBound::cutNodeAt(int x, int y) const {
     const int span = m_layout.pitch() << level;
     const terrain::NodeId node{std::uint8_t(level), std::uint32_t(x / span), std::uint32_t(y / span)};
     if (!m_layout.exists(node)) continue;
-    const std::uint64_t key = keyOf(node);
+    const std::uint64_t key = terrain::nodeKey(node);
     for (std::size_t slot = std::size_t(mixBits(key)) & mask; m_slots[slot].index != kNone; slot = (slot + 1) & mask)
       if (m_slots[slot].key == key) return m_slots[slot].index;
   }
@@ -126,16 +112,13 @@ std::uint32_t PyramidDikeBound::cutNodeAt(int x, int y) const {
 float PyramidDikeBound::error(const terrain::DikeVertex& a, const terrain::DikeVertex& b, const terrain::DikeVertex& c,
                               const terrain::DikeTriangleRef& where) const {
   const terrain::DikeVertex v[3] = {a, b, c};
-  double z[3];
-  for (int i = 0; i < 3; ++i) z[i] = double(height(v[i], where.vertices[i]));
-  // The plane z = p0 + px x + py y through the three vertices.
-  const double ux = v[1].x - v[0].x, uy = v[1].y - v[0].y, uz = z[1] - z[0];
-  const double wx = v[2].x - v[0].x, wy = v[2].y - v[0].y, wz = z[2] - z[0];
-  const double det = ux * wy - uy * wx;
+  Corner corners[3];
+  for (int i = 0; i < 3; ++i)
+    corners[i] = Corner{double(v[i].x), double(v[i].y), double(height(v[i], where.vertices[i]))};
   const float fallback = m_pyramid.node(m_cut[where.owner].node).dikeRange;
-  if (det == 0.0) return fallback;
-  const double px = (uz * wy - uy * wz) / det, py = (ux * wz - uz * wx) / det;
-  const auto plane = [&](double x, double y) { return z[0] + px * (x - v[0].x) + py * (y - v[0].y); };
+  SurfacePlane plane;
+  if (!SurfacePlane::through(corners[0], corners[1], corners[2], plane)) return fallback;
+  const double z[3] = {corners[0].h, corners[1].h, corners[2].h};
   const Point triangle[3] = {{double(a.x), double(a.y)}, {double(b.x), double(b.y)}, {double(c.x), double(c.y)}};
 
   const int tx0 = std::min({a.x, b.x, c.x}), tx1 = std::max({a.x, b.x, c.x});
@@ -146,7 +129,7 @@ float PyramidDikeBound::error(const terrain::DikeVertex& a, const terrain::DikeV
     if (node == kNone || std::find(candidates, candidates + count, node) != candidates + count) return;
     candidates[count++] = node;
   };
-  for (int i = 0; i < 3; ++i) add(m_samples->vertexNodes[where.vertices[i]]);
+  for (int i = 0; i < 3; ++i) add(m_samples->stage->vertexNodes()[where.vertices[i]]);
   const int cx1 = std::max(tx0, tx1 - 1), cy1 = std::max(ty0, ty1 - 1);
   add(cutNodeAt(tx0, ty0));
   add(cutNodeAt(cx1, ty0));
@@ -168,26 +151,22 @@ float PyramidDikeBound::error(const terrain::DikeVertex& a, const terrain::DikeV
     covered += area;
     const terrain::PyramidNode& data = m_pyramid.node(node);
     const double byRange = std::max(zHigh - double(data.minHeight), double(data.maxHeight) - zLow);
+    // Where the tile reaches over that part (it starts where the footprint does), its level
+    // surface plus the residual bounds it too.
     const SampleGrid& grid = m_samples->cut[candidates[n]];
-    if (!grid.samples) {
-      bound = std::max(bound, byRange);
-      continue;
-    }
-    // The tile's level surface over the same part, plus the residual, where the tile covers it.
     const int s = grid.stride;
-    const int rx1 = std::min(fx1, grid.x0 + (grid.samples->width - 1) * s);
-    const int ry1 = std::min(fy1, grid.y0 + (grid.samples->height - 1) * s);
-    if (std::int64_t(rx1 - fx0) * std::int64_t(ry1 - fy0) != area || rx1 <= fx0 || ry1 <= fy0) {
+    const bool tileCovers = grid.samples && grid.x0 + (grid.samples->width - 1) * s >= fx1 &&
+                            grid.y0 + (grid.samples->height - 1) * s >= fy1;
+    if (!tileCovers) {
       bound = std::max(bound, byRange);
       continue;
     }
     double largest = 0.0;
-    const int i0 = (fx0 - grid.x0) / s, i1 = (rx1 - grid.x0 + s - 1) / s;
-    const int j0 = (fy0 - grid.y0) / s, j1 = (ry1 - grid.y0 + s - 1) / s;
+    const int i0 = (fx0 - grid.x0) / s, i1 = (fx1 - grid.x0 + s - 1) / s;
+    const int j0 = (fy0 - grid.y0) / s, j1 = (fy1 - grid.y0 + s - 1) / s;
     for (int j = j0; j < j1; ++j) {
       for (int i = i0; i < i1; ++i) {
         const double x0 = grid.x0 + i * s, y0 = grid.y0 + j * s;
-        if (!meets(triangle, x0, y0, x0 + s, y0 + s)) continue;
         // The cell's two level triangles, cut from its south-east to its north-west corner.
         const Corner sw{x0, y0, grid.samples->at(i, j)}, se{x0 + s, y0, grid.samples->at(i + 1, j)};
         const Corner nw{x0, y0 + s, grid.samples->at(i, j + 1)}, ne{x0 + s, y0 + s, grid.samples->at(i + 1, j + 1)};

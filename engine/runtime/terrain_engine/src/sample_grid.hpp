@@ -41,14 +41,14 @@ struct SampleGrid {
 // The grid holding each vertex of a frame's dikes (DikeStage::mesh()): a side vertex is on its
 // node's grid, a DEM-border sample on the border's.
 struct DikeVertexSamples {
-  std::span<const SampleGrid> cut;             // per node of the cut
-  std::span<const std::uint32_t> vertexNodes;  // DikeStage::vertexNodes()
-  SampleGrid eastBorder;                       // holds x = eastX
-  SampleGrid northBorder;                      // holds the rest of y = height - 1
-  int eastX = 0;                               // width - 1
+  std::span<const SampleGrid> cut;            // per node of the cut
+  const terrain::DikeStage* stage = nullptr;  // the frame's dikes
+  SampleGrid eastBorder;                      // holds x = eastX
+  SampleGrid northBorder;                     // holds the rest of y = height - 1
+  int eastX = 0;                              // width - 1
 
   const SampleGrid& of(std::uint32_t vertex, const terrain::DikeVertex& v) const {
-    const std::uint32_t node = vertexNodes[vertex];
+    const std::uint32_t node = stage->vertexNodes()[vertex];
     if (node != terrain::DikeStage::kNoNode) return cut[node];
     return v.x == eastX ? eastBorder : northBorder;
   }

@@ -35,10 +35,6 @@ double millisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-std::uint64_t nodeKey(const terrain::NodeId& node) {
-  return (std::uint64_t(node.level) << 56) | (std::uint64_t(node.bx) << 28) | std::uint64_t(node.by);
-}
-
 std::size_t heightfieldBytes(const terrain::Heightfield& field) { return field.heights.capacity() * sizeof(float); }
 
 // A border of the DEM as a grid two samples wide, the border repeated: its normals slope only
@@ -171,6 +167,7 @@ struct TerrainEngine::Impl {
       dikeSamples.northBorder = SampleGrid{&northBorder, 0, layout.height() - 2, 1};
     }
     dikeSamples.eastX = layout.width() - 1;
+    dikeSamples.stage = &dikes;
     selectionScratch.reserve(quadtree);
     const std::size_t bound = quadtree.selectionBound();
     cut.reserve(bound);
@@ -221,14 +218,14 @@ struct TerrainEngine::Impl {
   void noteFailure(const terrain::NodeId& node, const std::string& message) {
     ++loadStats.failures;
     if (loadStats.firstFailure.empty()) loadStats.firstFailure = message;
-    failedNodes.insert(nodeKey(node));
+    failedNodes.insert(terrain::nodeKey(node));
   }
 
   // The node's block if resident; in Immediate mode built now if not. Null also for a node
   // with no whole cell inside the DEM, which selection never draws, and one whose load failed.
   const ResidentBlock* blockFor(const terrain::NodeId& node) {
     if (node == layout.root()) return root.get();
-    const std::uint64_t key = nodeKey(node);
+    const std::uint64_t key = terrain::nodeKey(node);
     if (ResidentBlock* cached = lods.find(key)) return cached;
     if (loader || !drawable(node) || failedNodes.count(key)) return nullptr;
     auto built = buildBlock(node);
@@ -248,7 +245,7 @@ struct TerrainEngine::Impl {
   // Where the heights of cut node `i` are: the whole heightfield, or the node's tile.
   SampleGrid gridOf(const terrain::NodeId& node) const {
     if (field) return SampleGrid{field.get(), 0, 0, 1};
-    const ResidentBlock* block = node == layout.root() ? root.get() : lods.peek(nodeKey(node));
+    const ResidentBlock* block = node == layout.root() ? root.get() : lods.peek(terrain::nodeKey(node));
     if (!block) return SampleGrid{};
     const terrain::SampleRect footprint = layout.footprint(node);
     return SampleGrid{&block->tile, footprint.x0, footprint.y0, layout.stride(node)};
@@ -259,7 +256,7 @@ struct TerrainEngine::Impl {
   // Selection may refine into `node`: its hierarchy is resident, or it cannot be drawn at
   // its stride (a DEM-edge node) and the children it gives way to are.
   bool resident(const terrain::NodeId& node) {
-    if (node == layout.root() || lods.find(nodeKey(node))) return true;
+    if (node == layout.root() || lods.find(terrain::nodeKey(node))) return true;
     if (drawable(node)) return !loader && blockFor(node);  // Immediate: built now
     if (node.level == 0) return false;
     for (int quadrant = 0; quadrant < 4; ++quadrant) {
@@ -285,7 +282,7 @@ struct TerrainEngine::Impl {
         continue;
       }
       const std::size_t bytes = loaded.lod->memoryBytes();
-      lods.insert(nodeKey(loaded.node), std::move(*loaded.lod), bytes);
+      lods.insert(terrain::nodeKey(loaded.node), std::move(*loaded.lod), bytes);
       loadMs.push_back(float(loaded.buildMs));
       ++loadStats.loads;
       ++stats.loadsArrived;
@@ -304,7 +301,7 @@ struct TerrainEngine::Impl {
       }
       return;
     }
-    const std::uint64_t key = nodeKey(node);
+    const std::uint64_t key = terrain::nodeKey(node);
     if (!lods.peek(key) && !failedNodes.count(key)) requests.push_back(BlockLodRequest{node, priority});
   }
 
@@ -337,7 +334,7 @@ struct TerrainEngine::Impl {
         selection.tolerancePx = options.tauPx;
         selection.errorMeasure = terrain::NodeErrorMeasure::Floor;
         const auto residentAhead = [this](const terrain::NodeId& node) {
-          return node == layout.root() || lods.peek(nodeKey(node)) != nullptr || !drawable(node);
+          return node == layout.root() || lods.peek(terrain::nodeKey(node)) != nullptr || !drawable(node);
         };
         quadtree.select(ahead, selection, selectionScratch, predictedCut, residentAhead);
         for (const terrain::SelectedNode& selected : predictedCut) {
@@ -441,7 +438,6 @@ struct TerrainEngine::Impl {
     for (int round = 1;; ++round) {
       const bool stitched = dikes.stitch(cut, cutMeshes);
       dikesStitched |= stitched;
-      dikeSamples.vertexNodes = dikes.vertexNodes();
       // The same dikes seen from the same camera pass as they passed last time.
       if (!stitched && lastCheck.clean && camera == lastCheck.camera && options.tauPx == lastCheck.tauPx)
         return lastCheck.result;
@@ -492,7 +488,6 @@ struct TerrainEngine::Impl {
     if (dikesStitched) {
       cutNodes.clear();
       for (const terrain::SelectedNode& selected : cut) cutNodes.push_back(selected.node);
-      dikeSamples.vertexNodes = dikes.vertexNodes();
       pieces.addDikes(dikes.mesh().vertices, dikes.visibleIndices(), dikes.visibleOwners(), cutNodes, dikeSamples);
     } else {
       pieces.keepDikes();

@@ -41,6 +41,11 @@ struct NodeId {
   NodeId parent() const { return NodeId{std::uint8_t(level + 1), bx / 2, by / 2}; }
 };
 
+// A node as one number, unique within any layout (columns and rows below 2^28): for hash keys.
+inline std::uint64_t nodeKey(const NodeId& node) {
+  return (std::uint64_t(node.level) << 56) | (std::uint64_t(node.bx) << 28) | std::uint64_t(node.by);
+}
+
 // A rectangle of full-resolution sample coordinates, both ends inclusive.
 struct SampleRect {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;

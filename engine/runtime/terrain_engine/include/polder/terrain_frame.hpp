@@ -42,8 +42,7 @@ struct TerrainPieceKey {
 };
 
 inline TerrainPieceKey terrainPieceKey(TerrainPieceKind kind, const terrain::NodeId& node) {
-  return TerrainPieceKey{(std::uint64_t(kind) << 63) | (std::uint64_t(node.level) << 56) |
-                         (std::uint64_t(node.bx) << 28) | std::uint64_t(node.by)};
+  return TerrainPieceKey{(std::uint64_t(kind) << 63) | terrain::nodeKey(node)};
 }
 
 struct TerrainPiece {
