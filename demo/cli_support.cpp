@@ -196,8 +196,17 @@ Result<Camera> parseCamera(std::string_view pose, double fovDeg, std::string_vie
   return camera;
 }
 
-void fitClipPlanes(Camera& camera, const terrain::Heightfield& field) {
-  const double diagonal = std::hypot(field.extentX(), field.extentY());
+DemExtent DemExtent::of(const terrain::Heightfield& field) {
+  const auto [low, high] = field.heightRange();
+  return DemExtent{field.width, field.height, field.spacingX, field.spacingY, low, high};
+}
+
+DemExtent DemExtent::of(const terrain::PyramidHeader& header) {
+  return DemExtent{header.width, header.height, header.spacingX, header.spacingY, header.minHeight, header.maxHeight};
+}
+
+void fitClipPlanes(Camera& camera, double extentX, double extentY) {
+  const double diagonal = std::hypot(extentX, extentY);
   const double heightRange = 1e4;  // generous: the camera may sit far above the relief
   camera.farM = 2.0 * (diagonal + heightRange + glm::length(camera.position));
   // A near plane proportional to the far plane keeps depth precision usable (24-bit depth).

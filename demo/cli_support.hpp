@@ -14,6 +14,7 @@
 #include <polder/camera.hpp>
 #include <polder/result.hpp>
 #include <polder/terrain/dem.hpp>
+#include <polder/terrain/pyramid.hpp>
 
 namespace polder::cli {
 
@@ -51,8 +52,23 @@ Result<std::pair<int, int>> parseImageSize(std::string_view text);
 // A camera from "X,Y,Z,YAW,PITCH", a field of view and an image size "WxH".
 Result<Camera> parseCamera(std::string_view pose, double fovDeg, std::string_view size);
 
+// A DEM's size and height range, from its heightfield or, unread, from a pyramid's header.
+struct DemExtent {
+  int width = 0, height = 0;  // samples
+  double spacingX = 1.0, spacingY = 1.0;
+  float minHeight = 0.0f, maxHeight = 0.0f;
+
+  double extentX() const { return (width - 1) * spacingX; }
+  double extentY() const { return (height - 1) * spacingY; }
+  static DemExtent of(const terrain::Heightfield& field);
+  static DemExtent of(const terrain::PyramidHeader& header);
+};
+
 // Near/far planes suited to a terrain of this extent seen from this camera.
-void fitClipPlanes(Camera& camera, const terrain::Heightfield& field);
+void fitClipPlanes(Camera& camera, double extentX, double extentY);
+inline void fitClipPlanes(Camera& camera, const terrain::Heightfield& field) {
+  fitClipPlanes(camera, field.extentX(), field.extentY());
+}
 
 // Prints "polder: error: ..." and returns the exit code for this kind of error.
 int reportError(const Error& error);

@@ -294,7 +294,6 @@ SelectionStats BlockQuadtree::select(const Camera& camera, const SelectionOption
   assert(!m_nodes.empty() && "BlockQuadtree::select: the tree is not built");
   SelectionStats stats;
   out.clear();
-  out.reserve(selectionBound());  // no-op once the caller reserved it
   scratch.reserve(*this);
 
   const Frustum frustum = Frustum::fromCamera(camera);

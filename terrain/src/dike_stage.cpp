@@ -7,7 +7,7 @@
 namespace polder::terrain {
 
 DikeStage::DikeStage(const BlockLayout& layout) : m_layout(layout) {
-  const std::size_t maxNodes = std::size_t(layout.nodesX(0)) * std::size_t(layout.nodesY(0));
+  const std::size_t maxNodes = layout.reservedCutNodes();
   m_blocks.reserve(maxNodes);
   m_mesh.reserve(layout, maxNodes);
   m_scratch.reserve(layout, maxNodes);

@@ -4,12 +4,9 @@
 // from the tiles; a corrupt tile leaves its block on an ancestor, counted once.
 #include <polder/terrain_engine.hpp>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <random>
 #include <string>
 
@@ -17,36 +14,15 @@
 
 #include <polder/query/query_scene.hpp>
 #include <polder/query/screen_error.hpp>
-#include <polder/terrain/height_rows.hpp>
 #include <polder/terrain/pyramid.hpp>
-#include <polder/terrain/pyramid_build.hpp>
 
 #include "generated_terrain.hpp"
+#include "pyramid_file.hpp"
 
 namespace polder {
 namespace {
 
-namespace fs = std::filesystem;
-
-class PyramidFile {
- public:
-  PyramidFile(const terrain::Heightfield& field, const std::string& name)
-      : m_path(fs::temp_directory_path() / ("polder-engine-" + std::to_string(::getpid()) + "-" + name + ".pyr")) {
-    terrain::HeightfieldRows rows(field);
-    auto report = terrain::buildPyramid(rows, m_path, {});
-    EXPECT_TRUE(report.ok()) << (report.ok() ? "" : report.error().message);
-  }
-  ~PyramidFile() { fs::remove(m_path); }
-  const fs::path& path() const { return m_path; }
-  std::shared_ptr<const terrain::Pyramid> open() const {
-    auto pyramid = terrain::Pyramid::open(m_path);
-    EXPECT_TRUE(pyramid.ok()) << (pyramid.ok() ? "" : pyramid.error().message);
-    return pyramid.ok() ? std::shared_ptr<const terrain::Pyramid>(std::move(*pyramid)) : nullptr;
-  }
-
- private:
-  fs::path m_path;
-};
+using test::PyramidFile;
 
 Camera cameraOver(const terrain::Heightfield& field, double fx, double fy, double z, double yaw, double pitch) {
   Camera camera;
@@ -133,20 +109,7 @@ TEST(PyramidEngine, ACorruptTileLeavesItsBlockOnAnAncestorCountedOnce) {
   auto field = test::sharedGeneratedTerrain(257, 3);
   PyramidFile file(*field, "corrupt");
   const terrain::NodeId victim{0, 3, 3};  // near the middle, where the camera looks
-  {
-    auto pyramid = file.open();
-    ASSERT_NE(pyramid, nullptr);
-    const std::uint64_t offset = pyramid->header().tilesOffset +
-                                 pyramid->nodeIndex(victim) * pyramid->header().tileSlotBytes +
-                                 terrain::kPyramidTileHeaderBytes + 4 * 100;
-    std::fstream bytes(file.path(), std::ios::in | std::ios::out | std::ios::binary);
-    bytes.seekg(std::streamoff(offset));
-    char c = 0;
-    bytes.read(&c, 1);
-    c = char(c ^ 0x5a);
-    bytes.seekp(std::streamoff(offset));
-    bytes.write(&c, 1);
-  }
+  file.corruptTile(victim);
   auto pyramid = file.open();
   ASSERT_NE(pyramid, nullptr);
   auto engine = TerrainEngine::create(pyramid, {});

@@ -33,7 +33,7 @@ bool cameFromUnderTheMesh(const QueryScene& lodMesh, const QueryRay& ray, const 
 
 }  // namespace
 
-ScreenError measureScreenError(const QueryScene& lodMesh, const QueryScene& truth, const Camera& camera,
+ScreenError measureScreenError(const QueryScene& lodMesh, const TrueSurface& truth, const Camera& camera,
                                const ScreenErrorOptions& options) {
   const int stride = std::max(options.pixelStride, 1);
   const int columns = (camera.widthPx + stride - 1) / stride;
@@ -88,7 +88,7 @@ ScreenError measureScreenError(const QueryScene& lodMesh, const QueryScene& trut
       if (hitAt(row, column) || row < first || row > last) continue;
       const QueryRay ray{camera.position, camera.pixelRay(column * stride + 0.5, row * stride + 0.5), camera.nearM,
                          camera.farM};
-      if (truth.raycast(ray)) ++result.holePixels;
+      if (truth.meets(ray)) ++result.holePixels;
     }
   }
 

@@ -54,6 +54,19 @@ class LruCache {
     return m_entries.front().value;
   }
 
+  // Whether `bytes` more fit in the budget once entries for which `evictable(value)` holds
+  // are evicted, least recently used first, stopping at the first that is not: what insert()
+  // would evict, asked before a value is made to give way to another.
+  template <class Evictable>
+  bool fitsEvicting(std::size_t bytes, Evictable evictable) const {
+    std::size_t held = m_bytes + bytes;
+    for (auto it = m_entries.rbegin(); held > m_budgetBytes && it != m_entries.rend(); ++it) {
+      if (!evictable(it->value)) return false;
+      held -= it->bytes;
+    }
+    return held <= m_budgetBytes;
+  }
+
   bool erase(const Key& key) {
     const auto it = m_index.find(key);
     if (it == m_index.end()) return false;

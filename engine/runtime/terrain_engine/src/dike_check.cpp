@@ -7,7 +7,7 @@ namespace polder {
 
 DikeCheck::DikeCheck(const terrain::DikeTriangleMeasure& measure, const terrain::BlockLayout& layout, double spacingX,
                      double spacingY)
-    : m_layout(layout), m_spacingX(spacingX), m_spacingY(spacingY), m_errors(measure) {}
+    : m_layout(layout), m_spacingX(spacingX), m_spacingY(spacingY), m_errors(measure), m_cutIndex(layout) {}
 
 void DikeCheck::reserve(std::size_t cutNodes) {
   m_nodeRepinned.reserve(cutNodes);
@@ -23,6 +23,7 @@ DikeCheckResult DikeCheck::check(const Camera& camera, double tauPx, const terra
   m_nodeRepinned.assign(cut.size(), 0);
   m_repinned.clear();
   m_splits.clear();
+  m_cutIndex.setCut(cut);
   const terrain::DikeMesh& mesh = dikes.mesh();
   const std::span<const std::uint32_t> vertexNodes = dikes.vertexNodes();
   const std::span<const std::uint32_t> indices = dikes.visibleIndices();
@@ -60,15 +61,21 @@ DikeCheckResult DikeCheck::check(const Camera& camera, double tauPx, const terra
     if (!failing) continue;
     ++result.failing;
     if (pinned) continue;
-    // The coarsest node whose footprint the triangle touches: its dike strip holds samples
-    // that no side can pin (it need not have a vertex in the triangle). Rare: a scan will do.
-    std::size_t coarsest = cut.size();
-    for (std::size_t i = 0; i < cut.size(); ++i) {
-      if (cut[i].node.level == 0 || (coarsest < cut.size() && cut[i].node.level <= cut[coarsest].node.level)) continue;
-      const terrain::SampleRect area = m_layout.footprint(cut[i].node);
-      if (area.x0 <= tx1 && tx0 <= area.x1 && area.y0 <= ty1 && ty0 <= area.y1) coarsest = i;
-    }
-    if (coarsest < cut.size() && std::find(m_splits.begin(), m_splits.end(), cut[coarsest].node) == m_splits.end())
+    // The coarsest node whose footprint the triangle's box touches: its dike strip holds
+    // samples that no side can pin (it need not have a vertex in the triangle). Footprints
+    // share their edges, so the cells on both sides of the box's corners are asked.
+    std::uint32_t coarsest = CutIndex::kNone;
+    const int xs[4] = {tx0 - 1, tx0, std::max(tx0, tx1 - 1), tx1}, ys[4] = {ty0 - 1, ty0, std::max(ty0, ty1 - 1), ty1};
+    for (const int x : xs)
+      for (const int y : ys) {
+        if (x < 0 || y < 0 || x > m_layout.width() - 2 || y > m_layout.height() - 2) continue;
+        const std::uint32_t i = m_cutIndex.at(x, y);
+        if (i != CutIndex::kNone && cut[i].node.level > 0 &&
+            (coarsest == CutIndex::kNone || cut[i].node.level > cut[coarsest].node.level))
+          coarsest = i;
+      }
+    if (coarsest != CutIndex::kNone &&
+        std::find(m_splits.begin(), m_splits.end(), cut[coarsest].node) == m_splits.end())
       m_splits.push_back(cut[coarsest].node);
   }
   return result;

@@ -40,6 +40,8 @@
 #include <polder/terrain/dike_errors.hpp>
 #include <polder/terrain/dike_stage.hpp>
 
+#include "cut_index.hpp"
+
 namespace polder {
 
 // Pins go on where a triangle projects above tau / (1 + this): before it fails (dike_check.cpp).
@@ -81,6 +83,7 @@ class DikeCheck {
   std::vector<std::uint8_t> m_nodeRepinned;  // per cut index
   std::vector<std::uint32_t> m_repinned;
   std::vector<terrain::NodeId> m_splits;
+  CutIndex m_cutIndex;
 };
 
 }  // namespace polder

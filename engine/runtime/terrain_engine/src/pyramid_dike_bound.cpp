@@ -1,10 +1,7 @@
 #include "pyramid_dike_bound.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
-
-#include <polder/mix_bits.hpp>
 
 namespace polder {
 
@@ -78,35 +75,7 @@ double largestDifference(const Point (&t)[3], const SurfacePlane& plane, const C
 void PyramidDikeBound::setFrame(std::span<const terrain::SelectedNode> cut, const DikeVertexSamples& samples) {
   m_cut = cut;
   m_samples = &samples;
-  m_indexed = false;
-}
-
-void PyramidDikeBound::indexCut() const {
-  const std::size_t size = std::bit_ceil(std::max<std::size_t>(4 * m_cut.size(), 64));
-  if (m_slots.size() < size) m_slots.resize(size);
-  std::fill(m_slots.begin(), m_slots.end(), Slot{});
-  const std::size_t mask = m_slots.size() - 1;
-  for (std::size_t i = 0; i < m_cut.size(); ++i) {
-    const std::uint64_t key = terrain::nodeKey(m_cut[i].node);
-    std::size_t slot = std::size_t(mixBits(key)) & mask;
-    while (m_slots[slot].index != kNone) slot = (slot + 1) & mask;
-    m_slots[slot] = Slot{key, std::uint32_t(i)};
-  }
-  m_indexed = true;
-}
-
-std::uint32_t PyramidDikeBound::cutNodeAt(int x, int y) const {
-  if (!m_indexed) indexCut();
-  const std::size_t mask = m_slots.size() - 1;
-  for (int level = 0; level <= m_layout.rootLevel(); ++level) {
-    const int span = m_layout.pitch() << level;
-    const terrain::NodeId node{std::uint8_t(level), std::uint32_t(x / span), std::uint32_t(y / span)};
-    if (!m_layout.exists(node)) continue;
-    const std::uint64_t key = terrain::nodeKey(node);
-    for (std::size_t slot = std::size_t(mixBits(key)) & mask; m_slots[slot].index != kNone; slot = (slot + 1) & mask)
-      if (m_slots[slot].key == key) return m_slots[slot].index;
-  }
-  return kNone;
+  m_cutIndex.setCut(cut);
 }
 
 float PyramidDikeBound::error(const terrain::DikeVertex& a, const terrain::DikeVertex& b, const terrain::DikeVertex& c,
@@ -126,15 +95,15 @@ float PyramidDikeBound::error(const terrain::DikeVertex& a, const terrain::DikeV
   std::uint32_t candidates[7];
   int count = 0;
   const auto add = [&](std::uint32_t node) {
-    if (node == kNone || std::find(candidates, candidates + count, node) != candidates + count) return;
+    if (node == CutIndex::kNone || std::find(candidates, candidates + count, node) != candidates + count) return;
     candidates[count++] = node;
   };
   for (int i = 0; i < 3; ++i) add(m_samples->stage->vertexNodes()[where.vertices[i]]);
   const int cx1 = std::max(tx0, tx1 - 1), cy1 = std::max(ty0, ty1 - 1);
-  add(cutNodeAt(tx0, ty0));
-  add(cutNodeAt(cx1, ty0));
-  add(cutNodeAt(tx0, cy1));
-  add(cutNodeAt(cx1, cy1));
+  add(m_cutIndex.at(tx0, ty0));
+  add(m_cutIndex.at(cx1, ty0));
+  add(m_cutIndex.at(tx0, cy1));
+  add(m_cutIndex.at(cx1, cy1));
 
   // Over the part of T in node N's footprint the full resolution lies in N's height range and
   // the plane between T's lowest and highest vertex: a bound wherever N's tile falls short.

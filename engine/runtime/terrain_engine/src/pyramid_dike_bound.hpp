@@ -29,6 +29,7 @@
 #include <polder/terrain/dike_error_cache.hpp>
 #include <polder/terrain/pyramid.hpp>
 
+#include "cut_index.hpp"
 #include "sample_grid.hpp"
 
 namespace polder {
@@ -48,24 +49,11 @@ class PyramidDikeBound final : public terrain::DikeTriangleMeasure {
               const terrain::DikeTriangleRef& where) const override;
 
  private:
-  // The index in the cut of the node whose footprint holds sample (x, y) on its south-west
-  // side (half-open), or kNone.
-  static constexpr std::uint32_t kNone = 0xffffffffu;
-  std::uint32_t cutNodeAt(int x, int y) const;
-  void indexCut() const;
-
   const terrain::Pyramid& m_pyramid;
   terrain::BlockLayout m_layout;
   std::span<const terrain::SelectedNode> m_cut;
   const DikeVertexSamples* m_samples = nullptr;
-  // Node -> cut index, open addressing; made when the first error of a frame needs it (the
-  // frames whose dike triangles are all known from earlier never do).
-  struct Slot {
-    std::uint64_t key = 0;
-    std::uint32_t index = kNone;
-  };
-  mutable std::vector<Slot> m_slots;
-  mutable bool m_indexed = false;
+  CutIndex m_cutIndex{m_layout};
 };
 
 }  // namespace polder

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #include <polder/terrain/heightfield.hpp>
 #include <polder/terrain/rtin.hpp>
@@ -12,7 +13,8 @@ namespace polder {
 
 struct ResidentBlock {
   terrain::BlockLod lod;
-  terrain::Heightfield tile;  // empty when the engine's source is a heightfield
+  terrain::Heightfield tile;          // empty when the engine's source is a heightfield
+  std::uint64_t lastNeededFrame = 0;  // the last frame whose selection or meshes used it
 
   std::size_t memoryBytes() const { return lod.memoryBytes() + tile.heights.capacity() * sizeof(float); }
 };

@@ -93,10 +93,14 @@ struct TerrainEngine::Impl {
   std::unique_ptr<ResidentBlock> root;
   std::unordered_set<std::uint64_t> failedNodes;  // loads that failed: never asked for again
   std::unique_ptr<BlockLodLoader> loader;         // BlockLoading::Background
-  std::vector<BlockLodRequest> requests;          // this frame's, handed to the loader
-  std::vector<LoadedBlockLod> arrived;            // collected from the loader
+  int loaderThreads = 0;
+  std::vector<BlockLodRequest> requests;  // this frame's, handed to the loader
+  std::vector<LoadedBlockLod> arrived;    // collected from the loader
   std::vector<float> loadMs;
   TerrainLoadStats loadStats;
+  std::uint64_t frameNumber = 0;
+  // A load was turned away last frame: the budget is full of blocks the cut needs.
+  bool budgetFullOfNeeds = false;
   // The camera's motion, for loading ahead of it.
   glm::dvec3 lastCameraPosition{0.0};
   bool haveLastCamera = false;
@@ -169,7 +173,7 @@ struct TerrainEngine::Impl {
     dikeSamples.eastX = layout.width() - 1;
     dikeSamples.stage = &dikes;
     selectionScratch.reserve(quadtree);
-    const std::size_t bound = quadtree.selectionBound();
+    const std::size_t bound = layout.reservedCutNodes();
     cut.reserve(bound);
     cutMeshes.reserve(bound);
     cutGrids.reserve(bound);
@@ -190,8 +194,9 @@ struct TerrainEngine::Impl {
       requests.reserve(most);
       arrived.reserve(most);
       // One core is the frame's; the rest build.
+      loaderThreads = std::max(pool->threadCount() - 1, 1);
       loader = std::make_unique<BlockLodLoader>(
-          pool->threadCount() - 1, [this](const terrain::NodeId& node) { return buildBlock(node); }, most);
+          loaderThreads, [this](const terrain::NodeId& node) { return buildBlock(node); }, most);
     }
   }
   ~Impl() { loader.reset(); }  // the workers' builds read the source
@@ -226,7 +231,10 @@ struct TerrainEngine::Impl {
   const ResidentBlock* blockFor(const terrain::NodeId& node) {
     if (node == layout.root()) return root.get();
     const std::uint64_t key = terrain::nodeKey(node);
-    if (ResidentBlock* cached = lods.find(key)) return cached;
+    if (ResidentBlock* cached = lods.find(key)) {
+      cached->lastNeededFrame = frameNumber;
+      return cached;
+    }
     if (loader || !drawable(node) || failedNodes.count(key)) return nullptr;
     auto built = buildBlock(node);
     if (!built) {
@@ -256,7 +264,11 @@ struct TerrainEngine::Impl {
   // Selection may refine into `node`: its hierarchy is resident, or it cannot be drawn at
   // its stride (a DEM-edge node) and the children it gives way to are.
   bool resident(const terrain::NodeId& node) {
-    if (node == layout.root() || lods.find(terrain::nodeKey(node))) return true;
+    if (node == layout.root()) return true;
+    if (ResidentBlock* cached = lods.find(terrain::nodeKey(node))) {
+      cached->lastNeededFrame = frameNumber;
+      return true;
+    }
     if (drawable(node)) return !loader && blockFor(node);  // Immediate: built now
     if (node.level == 0) return false;
     for (int quadrant = 0; quadrant < 4; ++quadrant) {
@@ -276,12 +288,24 @@ struct TerrainEngine::Impl {
       ++loadStats.handoffsDeferred;
       return;
     }
+    // A block the last frame needed is never evicted for a new one: when the budget holds
+    // no less, the new block is turned away and the cut stays where it is, coarser than tau
+    // asks but steady, instead of trading blocks with the loaders every frame.
+    const auto notNeededLastFrame = [this](const ResidentBlock& block) {
+      return block.lastNeededFrame + 1 < frameNumber;
+    };
+    budgetFullOfNeeds = false;
     for (LoadedBlockLod& loaded : arrived) {
       if (!loaded.lod) {
         noteFailure(loaded.node, loaded.error);
         continue;
       }
       const std::size_t bytes = loaded.lod->memoryBytes();
+      if (!lods.fitsEvicting(bytes, notNeededLastFrame)) {
+        ++loadStats.turnedAway;
+        budgetFullOfNeeds = true;
+        continue;
+      }
       lods.insert(terrain::nodeKey(loaded.node), std::move(*loaded.lod), bytes);
       loadMs.push_back(float(loaded.buildMs));
       ++loadStats.loads;
@@ -325,6 +349,15 @@ struct TerrainEngine::Impl {
         if (layout.exists(child) && !resident(child)) request(child, priority);
       }
     }
+    if (budgetFullOfNeeds) {
+      // Only the present frame's most wanted few, one per loader: one may be worth more than
+      // a block the cut leaves behind next frame, and the rest would be turned away.
+      const std::size_t few = std::min(requests.size(), std::size_t(loaderThreads));
+      std::partial_sort(requests.begin(), requests.begin() + std::ptrdiff_t(few), requests.end(),
+                        [](const BlockLodRequest& a, const BlockLodRequest& b) { return a.priority > b.priority; });
+      requests.resize(few);
+      return postRequests(camera, stats);
+    }
     if (haveLastCamera) {
       constexpr double kLookaheadFrames = 30.0;
       Camera ahead = camera;
@@ -359,6 +392,9 @@ struct TerrainEngine::Impl {
         if (layout.exists(child) && !resident(child)) request(child, priority);
       }
     }
+    postRequests(camera, stats);
+  }
+  void postRequests(const Camera& camera, TerrainFrameStats& stats) {
     lastCameraPosition = camera.position;
     haveLastCamera = true;
     // Duplicates (a node wanted now and ahead) are skipped by the loader; the list's order
@@ -636,6 +672,7 @@ std::span<const lod::RegionDemand> TerrainEngine::beginFrame(const Camera& camer
   //    cannot refine (its stride's floor): the view-dependent extraction below holds
   //    everything else within tau.
   s.expireForcedSplits(camera);
+  ++s.frameNumber;
   const auto start = Clock::now();
   s.collectLoads(s.frameStats);
   s.select(camera);

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 
 #include <polder/result.hpp>
@@ -89,6 +90,14 @@ class BlockLayout {
   }
 
   int stride(const NodeId& node) const { return 1 << node.level; }
+
+  // How many nodes a frame's storage is first sized for: the level-0 blocks, at most
+  // kReservedCutNodes. A cut follows the view and is far smaller than the blocks of a large
+  // DEM; a larger one grows the storage once, and the frames after it reuse it.
+  static constexpr std::size_t kReservedCutNodes = std::size_t(1) << 15;
+  std::size_t reservedCutNodes() const {
+    return std::min(std::size_t(m_blocksX) * std::size_t(m_blocksY), kReservedCutNodes);
+  }
 
   SampleRect footprint(const NodeId& node) const {
     const int span = pitch() * stride(node);

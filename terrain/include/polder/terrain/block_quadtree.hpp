@@ -71,7 +71,7 @@
 //   SelectionScratch scratch;
 //   std::vector<SelectedNode> cut;
 //   scratch.reserve(*tree);
-//   cut.reserve(tree->selectionBound());                            // select() never allocates now
+//   cut.reserve(layout->reservedCutNodes());                        // select() allocates no more
 //   tree->select(camera, SelectionOptions{1.0}, scratch, cut, isResident);  // every frame
 #pragma once
 
@@ -215,7 +215,7 @@ class BlockQuadtree {
   const BlockLayout& layout() const { return m_layout; }
   std::size_t nodeCount() const { return m_nodes.size(); }
   // The most nodes a selection can output (the number of level-0 blocks: a cut's nodes are
-  // disjoint and each holds at least one); reserve the output vector to this.
+  // disjoint and each holds at least one).
   std::size_t selectionBound() const { return std::size_t(m_layout.nodesX(0)) * std::size_t(m_layout.nodesY(0)); }
 
   // Asserts that the node exists (BlockLayout::exists).
@@ -225,7 +225,7 @@ class BlockQuadtree {
   Aabb box(const NodeId& node) const;
 
   // The cut for `camera` (see the top of this file) into `out`, cleared first. Allocates only
-  // when `scratch` or `out` has less room than reserve() / selectionBound() give.
+  // when `scratch` has less room than reserve() gives or the cut is larger than `out`'s room.
   SelectionStats select(const Camera& camera, const SelectionOptions& options, SelectionScratch& scratch,
                         std::vector<SelectedNode>& out, NodePredicate isResident = {}) const;
 

@@ -49,6 +49,7 @@
 
 #include <polder/mesh_data.hpp>
 #include <polder/query/ray.hpp>
+#include <polder/query/true_surface.hpp>
 #include <polder/result.hpp>
 #include <polder/terrain/heightfield.hpp>
 
@@ -62,7 +63,7 @@ struct QueryOptions {
   std::size_t memoryLimitBytes = 0;  // Embree's allocations may not exceed this; 0 = no limit
 };
 
-class QueryScene {
+class QueryScene final : public TrueSurface {
  public:
   // The full-resolution surface of `field`. Fails with InvalidArgument for a field smaller
   // than 2x2 samples, a size that does not match its heights, or a bad spacing or option;
@@ -84,7 +85,8 @@ class QueryScene {
   // Height of the surface at world (x, y): for a heightfield, of its triangulation;
   // for meshes, of the highest surface under the point. nullopt outside the footprint
   // (or over no-data samples).
-  std::optional<double> height(double x, double y) const;
+  std::optional<double> height(double x, double y) const override;
+  bool meets(const QueryRay& ray) const override { return raycast(ray).has_value(); }
 
   // The nearest hit within maxDistance metres of origin. nullopt for a miss, a zero or
   // non-finite direction, or an origin that is not finite or lies beyond 1e15 m.

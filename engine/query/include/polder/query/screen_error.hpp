@@ -19,6 +19,7 @@
 
 #include <polder/camera.hpp>
 #include <polder/query/query_scene.hpp>
+#include <polder/query/true_surface.hpp>
 
 namespace polder::query {
 
@@ -36,8 +37,8 @@ struct ScreenError {
 };
 
 // `lodMesh`: the frame's LOD surface (QueryScene::createFromMeshes); `truth`: the
-// full-resolution surface (QueryScene::create from the heightfield).
-ScreenError measureScreenError(const QueryScene& lodMesh, const QueryScene& truth, const Camera& camera,
+// full-resolution surface (QueryScene::create from the heightfield, or a PyramidSurface).
+ScreenError measureScreenError(const QueryScene& lodMesh, const TrueSurface& truth, const Camera& camera,
                                const ScreenErrorOptions& options = {});
 
 }  // namespace polder::query

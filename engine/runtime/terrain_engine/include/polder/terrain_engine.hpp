@@ -96,6 +96,9 @@ struct TerrainLoadStats {
   std::uint64_t failures = 0;
   std::string firstFailure;
   std::uint64_t evictions = 0;
+  // Built blocks turned away because the budget was full of blocks the last frame needed
+  // (none of those is evicted for a new one): the cut stays on ancestors there.
+  std::uint64_t turnedAway = 0;
   // Times the frame thread waited for the loaders: waitForLoads(), which updateSettled()
   // calls; update() never waits.
   std::uint64_t frameWaits = 0;
