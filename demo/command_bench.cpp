@@ -364,6 +364,7 @@ int runBench(BenchArguments arguments) {
         {"first_load_failure", loads.failures > 0 ? nlohmann::json(loads.firstFailure) : nlohmann::json(nullptr)},
         {"truth_read_failures", pyramidTruth ? pyramidTruth->readFailures() : 0},
         {"evictions", loads.evictions},
+        {"turned_away", loads.turnedAway},
         {"frames_on_ancestor", cached.framesOnAncestor},
         {"holes", cached.holePixels},
         {"frame_waits", cached.frameWaits},
@@ -440,6 +441,9 @@ int runBench(BenchArguments arguments) {
     std::printf("%-34s %llu loads (%.2f ms median, %.2f p99); %d frames partly on ancestors; %.0f MB resident peak\n",
                 "block loading", static_cast<unsigned long long>(cached.loadsArrived), loadPercentiles.median,
                 loadPercentiles.p99, cached.framesOnAncestor, double(cached.residentBytesPeak) / 1048576.0);
+    if (loads.turnedAway > 0)
+      std::printf("%-34s %llu built blocks turned away: the budget was full of blocks the cut needed\n", "",
+                  static_cast<unsigned long long>(loads.turnedAway));
     if (loads.failures > 0)
       std::printf("%-34s %llu failed, drawn from ancestors; the first: %s\n", "",
                   static_cast<unsigned long long>(loads.failures), loads.firstFailure.c_str());

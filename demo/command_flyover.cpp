@@ -10,6 +10,7 @@
 #include <optional>
 
 #include <polder/camera_path.hpp>
+#include <polder/query/pyramid_surface.hpp>
 #include <polder/query/query_scene.hpp>
 #include <polder/terrain/image_writer.hpp>
 #if POLDER_HAVE_GLFW
@@ -41,10 +42,11 @@ struct FlyoverArguments {
 };
 
 struct Flight {
-  std::shared_ptr<const terrain::Heightfield> field;  // shared with the LOD engine, not copied
+  std::shared_ptr<const terrain::Heightfield> field;  // shared with the LOD engine; null when streamed
   std::shared_ptr<const terrain::Pyramid> pyramid;    // streamed by the LOD engine, when the DEM is one
-  terrain::DemInfo info;
-  std::unique_ptr<query::QueryScene> scene;
+  std::string name;
+  DemExtent extent;
+  std::unique_ptr<query::TrueSurface> ground;  // under the path and the camera
   CameraPath path;
   TerrainStyle style;
 };
@@ -77,10 +79,11 @@ class FlightDrawing {
   }
 
   // Before the renderer's frame: the LOD frame for `camera`, its pieces brought to the GPU.
-  // Returns the triangles the frame draws.
-  std::size_t prepare(const Camera& camera) {
+  // `settled`: every block at its selected level, waiting for the loads (frames rendered to
+  // files); otherwise the frame never waits. Returns the triangles the frame draws.
+  std::size_t prepare(const Camera& camera, bool settled) {
     if (m_fullResolution) return m_fullResolution->triangleCount();
-    m_frame = &m_engine->update(camera);
+    m_frame = settled ? &m_engine->updateSettled(camera) : &m_engine->update(camera);
     (void)m_drawer->sync(*m_frame);  // a piece the GPU refused stays undrawn; the flight goes on
     return m_frame->stats.triangles();
   }
@@ -106,21 +109,31 @@ class FlightDrawing {
 Result<Flight> prepareFlight(const FlyoverArguments& arguments) {
   auto pyramid = pyramidToStream(arguments.dem);
   if (!pyramid) return pyramid.error();
-  auto dem = loadDem(arguments.dem);
-  if (!dem) return dem.error();
-  auto scene = query::QueryScene::create(dem->field);
-  if (!scene) return scene.error();
-  const query::QueryScene& surface = **scene;
+  Flight flight;
+  flight.pyramid = std::move(*pyramid);
+  if (flight.pyramid && !arguments.fullResolution) {
+    // Streamed: the ground comes from the pyramid's level-0 tiles, never the whole DEM.
+    flight.name = arguments.dem.path;
+    flight.extent = DemExtent::of(flight.pyramid->header());
+    flight.ground = std::make_unique<query::PyramidSurface>(flight.pyramid);
+  } else {
+    auto dem = loadDem(arguments.dem);
+    if (!dem) return dem.error();
+    auto scene = query::QueryScene::create(dem->field);
+    if (!scene) return scene.error();
+    flight.name = dem->info.path;
+    flight.extent = DemExtent::of(dem->field);
+    flight.ground = std::move(*scene);
+    flight.field = std::make_shared<const terrain::Heightfield>(std::move(dem->field));
+  }
+  const query::TrueSurface& surface = *flight.ground;
   auto ground = [&surface](double x, double y) { return surface.height(x, y).value_or(0.0); };
-  auto path = makeFlyoverLoop(dem->field.extentX(), dem->field.extentY(), ground, arguments.flight);
+  auto path = makeFlyoverLoop(flight.extent.extentX(), flight.extent.extentY(), ground, arguments.flight);
   if (!path) return makeError(path.error().kind, arguments.dem.path + ": " + path.error().message);
-  const TerrainStyle style = defaultTerrainStyle(dem->field);
-  return Flight{std::make_shared<const terrain::Heightfield>(std::move(dem->field)),
-                std::move(*pyramid),
-                std::move(dem->info),
-                std::move(*scene),
-                std::move(*path),
-                style};
+  flight.path = std::move(*path);
+  flight.style = defaultTerrainStyle(flight.extent.minHeight, flight.extent.maxHeight, flight.extent.extentX(),
+                                     flight.extent.extentY());
+  return flight;
 }
 
 int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
@@ -149,7 +162,7 @@ int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) 
   for (int frame = 0; frame < arguments.frames; ++frame) {
     const Camera camera = flight.path.at(frame * step).placed(lens);
     const auto start = std::chrono::steady_clock::now();
-    triangles += drawing->prepare(camera);
+    triangles += drawing->prepare(camera, true);
     uploaded += drawing->uploadedBytes();
     framesUploadingNothing += drawing->uploadedBytes() == 0;
     renderer.beginFrame(camera, style);
@@ -167,8 +180,8 @@ int runHeadless(const FlyoverArguments& arguments, Flight& flight, Camera lens) 
   progress.finish();
   std::printf(
       "flew %.0f s of a %.0f s loop over %s (%d x %d samples), %zu triangles per frame %s\n",
-      (arguments.frames - 1) * step, flight.path.durationS(), flight.info.path.c_str(), flight.field->width,
-      flight.field->height, triangles / std::size_t(arguments.frames),
+      (arguments.frames - 1) * step, flight.path.durationS(), flight.name.c_str(), flight.extent.width,
+      flight.extent.height, triangles / std::size_t(arguments.frames),
       arguments.fullResolution ? "at full resolution" : ("within " + std::to_string(arguments.tauPx) + " px").c_str());
   std::printf("wrote %d frames (%dx%d) to %s/frame_0000.png ... frame_%04d.png; %.0f ms per frame to draw\n",
               arguments.frames, lens.widthPx, lens.heightPx, arguments.out.c_str(), arguments.frames - 1,
@@ -232,14 +245,14 @@ int runWindow(const FlyoverArguments& arguments, Flight& flight, Camera lens) {
       if (input.held(Key::Q)) move.z -= 1.0;
       if (glm::length(move) > 0.0) camera.position += glm::normalize(move) * speed * dt;
     }
-    if (auto ground = flight.scene->height(camera.position.x, camera.position.y))
+    if (auto ground = flight.ground->height(camera.position.x, camera.position.y))
       camera.position.z = std::max(camera.position.z, *ground + 5.0);
 
     const glm::ivec2 size = (*window)->framebufferSize();
     if (size.x <= 0 || size.y <= 0) continue;  // minimised
     camera.widthPx = size.x;
     camera.heightPx = size.y;
-    const std::size_t triangles = drawing->prepare(camera);
+    const std::size_t triangles = drawing->prepare(camera, false);
     (*renderer)->beginFrame(camera, style);
     drawing->draw(**renderer);
     if (Status done = (*renderer)->endFrame(); !done) return reportError(done.error());
@@ -269,7 +282,7 @@ int runFlyover(const FlyoverArguments& arguments) {
   lens.heightPx = size->second;
   lens.fovYDeg = arguments.fovDeg;
   lens.position = flight->path.at(0.0).position;
-  fitClipPlanes(lens, *flight->field);
+  fitClipPlanes(lens, flight->extent.extentX(), flight->extent.extentY());
   if (arguments.headless) return runHeadless(arguments, *flight, lens);
 #if POLDER_HAVE_GLFW
   return runWindow(arguments, *flight, lens);

@@ -156,8 +156,8 @@ TEST_F(PolderProgram, PrepWritesAPyramidThatEveryCommandTakes) {
   EXPECT_EQ(render.exitCode, 0) << render.output;
   EXPECT_TRUE(std::filesystem::exists(frame));
 
-  // The bench streams the pyramid: blocks from their tiles, measured against the full
-  // resolution, at the pyramid's block size.
+  // The bench streams the pyramid: blocks from their tiles, measured against its level-0
+  // tiles (the full resolution is never read whole), at the pyramid's block size.
   const std::string streamed = s_dir->file("pyramid_bench.json").string();
   const ProgramRun bench = runPolder("bench " + pyramid + " --frames 30 --measure-every 10 --size 160x120 --json " +
                                      streamed + " --memory-mb 16");
@@ -173,7 +173,14 @@ TEST_F(PolderProgram, PrepWritesAPyramidThatEveryCommandTakes) {
     EXPECT_EQ(report["watertight"]["open_edges"], 0);
     // The engine holds the pyramid's tables, not the heightfield (129 x 129 floats, 0.063 MB).
     EXPECT_LT(report["memory"]["engine_mb"]["source"].get<double>(), 0.03);
+    EXPECT_EQ(report["streaming"]["truth_read_failures"], 0);
   }
+  // The flyover streams it too, its ground from the tiles.
+  const std::string frames = s_dir->file("pyramid_flyover").string();
+  const ProgramRun flyover =
+      runPolder("flyover " + pyramid + " --headless --frames 2 --size 96x64 --memory-mb 16 --out " + frames);
+  EXPECT_EQ(flyover.exitCode, 0) << flyover.output;
+  EXPECT_TRUE(std::filesystem::exists(frames + "/frame_0001.png")) << flyover.output;
 
   // A flipped byte in a full-resolution tile (they fill the first three quarters of the tiles)
   // is found when the tiles are read.

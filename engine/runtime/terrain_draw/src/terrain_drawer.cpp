@@ -102,10 +102,14 @@ void TerrainDrawer::clear() {
 
 TerrainStyle defaultTerrainStyle(const terrain::Heightfield& field) {
   const auto [low, high] = field.heightRange();
+  return defaultTerrainStyle(low, high, field.extentX(), field.extentY());
+}
+
+TerrainStyle defaultTerrainStyle(float minHeightM, float maxHeightM, double extentX, double extentY) {
   TerrainStyle style;
-  style.minHeightM = float(low);
-  style.maxHeightM = float(std::max(double(high), double(low) + 1.0));
-  style.fogDensity = fogDensityForDistance(float(0.6 * std::hypot(field.extentX(), field.extentY())));
+  style.minHeightM = minHeightM;
+  style.maxHeightM = float(std::max(double(maxHeightM), double(minHeightM) + 1.0));
+  style.fogDensity = fogDensityForDistance(float(0.6 * std::hypot(extentX, extentY)));
   return style;
 }
 

@@ -76,5 +76,7 @@ class TerrainDrawer {
 // A sensible style for a heightfield: the elevation ramp spans its height range, and fog
 // half-hides terrain at about 60% of its diagonal.
 TerrainStyle defaultTerrainStyle(const terrain::Heightfield& field);
+// The same for a DEM known by its height range and extent in metres (a pyramid's header).
+TerrainStyle defaultTerrainStyle(float minHeightM, float maxHeightM, double extentX, double extentY);
 
 }  // namespace polder
