@@ -17,6 +17,7 @@
 #include <polder/query/pyramid_surface.hpp>
 #include <polder/query/query_scene.hpp>
 #include <polder/query/screen_error.hpp>
+#include <polder/terrain/full_resolution_mesh.hpp>
 #include <polder/terrain/heightfield_crop.hpp>
 #include <polder/terrain_engine.hpp>
 
@@ -267,7 +268,7 @@ int runBench(BenchArguments arguments) {
     comparison = compareCache(cached, *uncached);
   }
 
-  const double fullResolution = 2.0 * double(extent.width - 1) * double(extent.height - 1);
+  const double fullResolution = double(terrain::fullResolutionTriangleCount(extent.width, extent.height));
   const TerrainMemory held = (*engine)->memory();
   auto mb = [](std::size_t bytes) { return double(bytes) / 1048576.0; };
   // Resident memory at the checked frames; the first tenth of the flight warms the caches up.

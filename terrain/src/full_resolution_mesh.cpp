@@ -59,8 +59,12 @@ std::vector<MeshData> buildFullResolutionMeshes(const Heightfield& field, int ch
 }
 
 std::size_t fullResolutionTriangleCount(const Heightfield& field) {
-  if (field.width < 2 || field.height < 2) return 0;
-  return 2 * std::size_t(field.width - 1) * std::size_t(field.height - 1);
+  return fullResolutionTriangleCount(field.width, field.height);
+}
+
+std::size_t fullResolutionTriangleCount(int width, int height) {
+  if (width < 2 || height < 2) return 0;
+  return 2 * std::size_t(width - 1) * std::size_t(height - 1);
 }
 
 }  // namespace polder::terrain

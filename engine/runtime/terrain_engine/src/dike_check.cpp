@@ -5,9 +5,9 @@
 
 namespace polder {
 
-DikeCheck::DikeCheck(const terrain::DikeTriangleMeasure& measure, const terrain::BlockLayout& layout, double spacingX,
-                     double spacingY)
-    : m_layout(layout), m_spacingX(spacingX), m_spacingY(spacingY), m_errors(measure), m_cutIndex(layout) {}
+DikeCheck::DikeCheck(const terrain::DikeTriangleMeasure& measure, const terrain::BlockLayout& layout,
+                     const CutIndex& cutIndex, double spacingX, double spacingY)
+    : m_layout(layout), m_spacingX(spacingX), m_spacingY(spacingY), m_errors(measure), m_cutIndex(cutIndex) {}
 
 void DikeCheck::reserve(std::size_t cutNodes) {
   m_nodeRepinned.reserve(cutNodes);
@@ -23,7 +23,6 @@ DikeCheckResult DikeCheck::check(const Camera& camera, double tauPx, const terra
   m_nodeRepinned.assign(cut.size(), 0);
   m_repinned.clear();
   m_splits.clear();
-  m_cutIndex.setCut(cut);
   const terrain::DikeMesh& mesh = dikes.mesh();
   const std::span<const std::uint32_t> vertexNodes = dikes.vertexNodes();
   const std::span<const std::uint32_t> indices = dikes.visibleIndices();

@@ -55,8 +55,9 @@ struct DikeCheckResult {
 class DikeCheck {
  public:
   // Errors as `measure` gives them: exact over a heightfield, bounds from a pyramid's tiles.
-  DikeCheck(const terrain::DikeTriangleMeasure& measure, const terrain::BlockLayout& layout, double spacingX,
-            double spacingY);
+  // `cutIndex` must index the cut each check() is given.
+  DikeCheck(const terrain::DikeTriangleMeasure& measure, const terrain::BlockLayout& layout, const CutIndex& cutIndex,
+            double spacingX, double spacingY);
   void reserve(std::size_t cutNodes);
 
   // Checks the frame's drawn dike triangles and pins the failing ones' sides in `cache`, and
@@ -83,7 +84,7 @@ class DikeCheck {
   std::vector<std::uint8_t> m_nodeRepinned;  // per cut index
   std::vector<std::uint32_t> m_repinned;
   std::vector<terrain::NodeId> m_splits;
-  CutIndex m_cutIndex;
+  const CutIndex& m_cutIndex;
 };
 
 }  // namespace polder

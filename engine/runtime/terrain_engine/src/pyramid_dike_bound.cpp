@@ -75,7 +75,6 @@ double largestDifference(const Point (&t)[3], const SurfacePlane& plane, const C
 void PyramidDikeBound::setFrame(std::span<const terrain::SelectedNode> cut, const DikeVertexSamples& samples) {
   m_cut = cut;
   m_samples = &samples;
-  m_cutIndex.setCut(cut);
 }
 
 float PyramidDikeBound::error(const terrain::DikeVertex& a, const terrain::DikeVertex& b, const terrain::DikeVertex& c,

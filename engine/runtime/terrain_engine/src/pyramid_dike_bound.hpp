@@ -36,7 +36,9 @@ namespace polder {
 
 class PyramidDikeBound final : public terrain::DikeTriangleMeasure {
  public:
-  explicit PyramidDikeBound(const terrain::Pyramid& pyramid) : m_pyramid(pyramid), m_layout(pyramid.layout()) {}
+  // `cutIndex` must index the cut setFrame() is given.
+  PyramidDikeBound(const terrain::Pyramid& pyramid, const CutIndex& cutIndex)
+      : m_pyramid(pyramid), m_layout(pyramid.layout()), m_cutIndex(cutIndex) {}
 
   // The frame the next calls are about: its cut and where each dike vertex's height is. Both
   // must outlive the calls.
@@ -53,7 +55,7 @@ class PyramidDikeBound final : public terrain::DikeTriangleMeasure {
   terrain::BlockLayout m_layout;
   std::span<const terrain::SelectedNode> m_cut;
   const DikeVertexSamples* m_samples = nullptr;
-  CutIndex m_cutIndex{m_layout};
+  const CutIndex& m_cutIndex;
 };
 
 }  // namespace polder

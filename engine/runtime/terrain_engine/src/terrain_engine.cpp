@@ -19,6 +19,7 @@
 
 #include <polder/terrain/dike_stage.hpp>
 #include "block_lod_loader.hpp"
+#include "cut_index.hpp"
 #include "dike_check.hpp"
 #include "pyramid_dike_bound.hpp"
 #include "resident_block.hpp"
@@ -118,6 +119,7 @@ struct TerrainEngine::Impl {
   std::vector<std::size_t> visibleInCut;  // indices into cut of the visible nodes
   lod::AllocationScratch allocationScratch{0};
   terrain::DikeStage dikes;
+  CutIndex cutIndex;  // the frame's cut by node, for the dike check and the pyramid's bounds
   std::unique_ptr<terrain::ExactDikeError> exactDikeErrors;  // a heightfield's
   std::unique_ptr<PyramidDikeBound> pyramidDikeBounds;       // a pyramid's
   DikeCheck dikeCheck;
@@ -156,10 +158,11 @@ struct TerrainEngine::Impl {
         lodBudgetBytes(o.lodDataBytes),
         meshes(cacheOptions(o)),
         dikes(layout),
+        cutIndex(layout),
         exactDikeErrors(field ? std::make_unique<terrain::ExactDikeError>(*field) : nullptr),
-        pyramidDikeBounds(field ? nullptr : std::make_unique<PyramidDikeBound>(*pyramid)),
+        pyramidDikeBounds(field ? nullptr : std::make_unique<PyramidDikeBound>(*pyramid, cutIndex)),
         dikeCheck(field ? static_cast<const terrain::DikeTriangleMeasure&>(*exactDikeErrors) : *pyramidDikeBounds,
-                  layout, spacingX, spacingY),
+                  layout, cutIndex, spacingX, spacingY),
         pieces(GridSpacing{spacingX, spacingY}, layout) {
     if (field) {
       const SampleGrid whole{field.get(), 0, 0, 1};
@@ -226,15 +229,20 @@ struct TerrainEngine::Impl {
     failedNodes.insert(terrain::nodeKey(node));
   }
 
+  // The resident block of `key`, marked as needed by this frame (collectLoads never evicts it
+  // for a new one next frame), or null.
+  ResidentBlock* findNeeded(std::uint64_t key) {
+    ResidentBlock* cached = lods.find(key);
+    if (cached) cached->lastNeededFrame = frameNumber;
+    return cached;
+  }
+
   // The node's block if resident; in Immediate mode built now if not. Null also for a node
   // with no whole cell inside the DEM, which selection never draws, and one whose load failed.
   const ResidentBlock* blockFor(const terrain::NodeId& node) {
     if (node == layout.root()) return root.get();
     const std::uint64_t key = terrain::nodeKey(node);
-    if (ResidentBlock* cached = lods.find(key)) {
-      cached->lastNeededFrame = frameNumber;
-      return cached;
-    }
+    if (ResidentBlock* cached = findNeeded(key)) return cached;
     if (loader || !drawable(node) || failedNodes.count(key)) return nullptr;
     auto built = buildBlock(node);
     if (!built) {
@@ -264,11 +272,7 @@ struct TerrainEngine::Impl {
   // Selection may refine into `node`: its hierarchy is resident, or it cannot be drawn at
   // its stride (a DEM-edge node) and the children it gives way to are.
   bool resident(const terrain::NodeId& node) {
-    if (node == layout.root()) return true;
-    if (ResidentBlock* cached = lods.find(terrain::nodeKey(node))) {
-      cached->lastNeededFrame = frameNumber;
-      return true;
-    }
+    if (node == layout.root() || findNeeded(terrain::nodeKey(node))) return true;
     if (drawable(node)) return !loader && blockFor(node);  // Immediate: built now
     if (node.level == 0) return false;
     for (int quadrant = 0; quadrant < 4; ++quadrant) {
@@ -426,6 +430,7 @@ struct TerrainEngine::Impl {
     cutGrids.clear();
     for (const terrain::SelectedNode& selected : cut) cutGrids.push_back(gridOf(selected.node));
     dikeSamples.cut = cutGrids;
+    cutIndex.setCut(cut);
     if (pyramidDikeBounds) pyramidDikeBounds->setFrame(cut, dikeSamples);
   }
 

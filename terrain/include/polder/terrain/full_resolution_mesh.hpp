@@ -26,5 +26,7 @@ std::vector<MeshData> buildFullResolutionMeshes(const Heightfield& field, int ch
 
 // 2 * (width - 1) * (height - 1): the triangles buildFullResolutionMeshes makes.
 std::size_t fullResolutionTriangleCount(const Heightfield& field);
+// The same for a DEM of width x height samples known by its size alone (a pyramid's header).
+std::size_t fullResolutionTriangleCount(int width, int height);
 
 }  // namespace polder::terrain
