@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 #include <new>
+#include <vector>
 
 #include <polder/checksum.hpp>
 
@@ -170,19 +171,23 @@ Status Pyramid::readTile(const NodeId& node, PyramidTile& out) const {
   if (!m_layout.exists(node)) return makeError(ErrorKind::InvalidArgument, "Pyramid::readTile: no such node");
   const std::size_t index = nodeIndex(node);
   const std::size_t sideSamples = std::size_t(m_header.tileSide) * m_header.tileSide;
+  const std::size_t residualBytes = sizeof(float) + tileCellsMax(m_header.k);
+  std::vector<unsigned char> residual;
   try {
     out.samples.heights.resize(sideSamples);  // reuses the capacity of earlier tiles
+    residual.resize(residualBytes);
   } catch (const std::bad_alloc&) {
     return makeError(ErrorKind::OutOfMemory, "Pyramid::readTile: no memory for a tile");
   }
   unsigned char head[kPyramidTileHeaderBytes];
-  iovec parts[2] = {{head, sizeof head}, {out.samples.heights.data(), sideSamples * sizeof(float)}};
+  iovec parts[3] = {
+      {head, sizeof head}, {out.samples.heights.data(), sideSamples * sizeof(float)}, {residual.data(), residualBytes}};
   const std::uint64_t offset = m_header.tilesOffset + std::uint64_t(index) * m_header.tileSlotBytes;
-  const std::size_t total = sizeof head + sideSamples * sizeof(float);
+  const std::size_t total = sizeof head + sideSamples * sizeof(float) + residualBytes;
   std::size_t done = 0;
   while (done < total) {
     // preadv cannot resume inside an iovec on its own: move the parts past what was read.
-    iovec rest[2];
+    iovec rest[3];
     int restCount = 0;
     std::size_t skip = done;
     for (const iovec& part : parts) {
@@ -203,6 +208,7 @@ Status Pyramid::readTile(const NodeId& node, PyramidTile& out) const {
   }
   std::uint32_t crc = core::crc32c(head + 4, sizeof head - 4);
   crc = core::crc32c(out.samples.heights.data(), sideSamples * sizeof(float), crc);
+  crc = core::crc32c(residual.data(), residualBytes, crc);
   if (crc != get<std::uint32_t>(head, 0))
     return dataError(m_path, "the tile of " + nodeName(node) + " fails its checksum (corrupt file)");
   const SampleRect area = m_layout.footprint(node);
@@ -211,6 +217,16 @@ Status Pyramid::readTile(const NodeId& node, PyramidTile& out) const {
   if (get<std::uint32_t>(head, 4) != index || get<std::uint16_t>(head, 8) != columns ||
       get<std::uint16_t>(head, 10) != rows)
     return dataError(m_path, "the tile stored for " + nodeName(node) + " belongs to another node");
+  const float step = get<float>(residual.data(), 0);
+  if (!(step >= 0.0f) || std::isinf(step))
+    return dataError(m_path, "the tile of " + nodeName(node) + " has a residual step that is not finite and >= 0");
+  const std::size_t cells = std::size_t(columns - 1) * std::size_t(rows - 1);
+  try {
+    out.cellResidual.resize(cells);
+  } catch (const std::bad_alloc&) {
+    return makeError(ErrorKind::OutOfMemory, "Pyramid::readTile: no memory for a tile");
+  }
+  for (std::size_t c = 0; c < cells; ++c) out.cellResidual[c] = float(residual[sizeof(float) + c]) * step;
   out.node = node;
   out.samples.width = columns;
   out.samples.height = rows;

@@ -42,14 +42,41 @@ float roundUp(double x) {
   return std::bit_cast<float>(std::bit_cast<std::uint32_t>(f) + std::uint32_t(double(f) < x));
 }
 
-// A window of consecutive rows of one level's samples.
-class LevelRows {
+// The cells' residuals as the tile slot holds them (pyramid_layout.hpp): a step of at least
+// largest / 255 and, per cell, the least byte whose multiple of the step, in float as the
+// reader computes it, is not below the residual. `residual` becomes what the reader will get
+// back, which is what the node's bounds are built from; returns its largest.
+float encodeResiduals(std::vector<float>& residual, unsigned char* out) {
+  const float largest = residual.empty() ? 0.0f : *std::max_element(residual.begin(), residual.end());
+  float step = largest > 0.0f ? roundUp(double(largest) / 255.0 * (1.0 + 1e-6)) : 0.0f;
+  for (;; step = std::nextafter(step, kInfinity)) {
+    bool fits = true;
+    for (std::size_t c = 0; c < residual.size() && fits; ++c) {
+      int code = residual[c] == 0.0f ? 0 : int(std::ceil(double(residual[c]) / double(step)));
+      while (code <= 255 && float(code) * step < residual[c]) ++code;
+      fits = code <= 255;
+      out[sizeof(float) + c] = std::uint8_t(std::min(code, 255));
+    }
+    if (fits) break;
+  }
+  std::memcpy(out, &step, sizeof step);
+  float decodedLargest = 0.0f;
+  for (std::size_t c = 0; c < residual.size(); ++c) {
+    residual[c] = float(out[sizeof(float) + c]) * step;
+    decodedLargest = std::max(decodedLargest, residual[c]);
+  }
+  return decodedLargest;
+}
+
+// A window of consecutive rows of one level's samples or cells.
+template <class T>
+class RowWindow {
  public:
-  explicit LevelRows(int width) : m_width(width) {}
+  explicit RowWindow(int width) : m_width(width) {}
   int width() const { return m_width; }
   int end() const { return m_first + int(m_rows.size()); }  // one past the last row held
-  const float* row(int y) const { return m_rows[std::size_t(y - m_first)].data(); }
-  std::vector<float>& append() {
+  const T* row(int y) const { return m_rows[std::size_t(y - m_first)].data(); }
+  std::vector<T>& append() {
     if (m_spare.empty()) {
       m_rows.emplace_back(std::size_t(m_width));
     } else {
@@ -69,8 +96,17 @@ class LevelRows {
  private:
   int m_width;
   int m_first = 0;
-  std::deque<std::vector<float>> m_rows;
-  std::vector<std::vector<float>> m_spare;
+  std::deque<std::vector<T>> m_rows;
+  std::vector<std::vector<T>> m_spare;
+};
+using LevelRows = RowWindow<float>;
+
+// What level L >= 1 knows of one of its cells: the exact range of the full-resolution samples
+// under it (the closed cell) and a bound on |full resolution - level surface| over it.
+struct CellBound {
+  float residual = 0.0f;
+  float minHeight = 0.0f;
+  float maxHeight = 0.0f;
 };
 
 Error ioError(const std::filesystem::path& path, const std::string& what) {
@@ -90,18 +126,6 @@ Status writeExactly(int fd, const void* data, std::size_t size, std::uint64_t of
   return {};
 }
 
-// The level-L surface at level L - 1 sample (i, j) of the same footprint (heightfield.hpp:
-// every cell is cut from (x + 1, y) to (x, y + 1)); (i, j) at most one level-L cell beyond the
-// level's rows held by `rows`.
-double levelSurfaceAt(const LevelRows& rows, int i, int j) {
-  const int x = i >> 1, y = j >> 1;
-  const bool oddX = (i & 1) != 0, oddY = (j & 1) != 0;
-  if (!oddX && !oddY) return rows.row(y)[x];
-  if (oddX && !oddY) return 0.5 * (double(rows.row(y)[x]) + rows.row(y)[x + 1]);
-  if (!oddX && oddY) return 0.5 * (double(rows.row(y)[x]) + rows.row(y + 1)[x]);
-  return 0.5 * (double(rows.row(y)[x + 1]) + rows.row(y + 1)[x]);  // the cut's midpoint
-}
-
 class Builder {
  public:
   Builder(HeightRows& source, const BlockLayout& layout, const PyramidBuildOptions& options, int fd,
@@ -113,6 +137,7 @@ class Builder {
       m_levelOffset.push_back(total);
       total += std::uint64_t(layout.nodesX(level)) * std::uint64_t(layout.nodesY(level));
       m_rows.emplace_back(levelSamples(layout.width(), level));
+      m_cells.emplace_back(level == 0 ? 0 : levelSamples(layout.width(), level) - 1);
       m_levelHeight.push_back(levelSamples(layout.height(), level));
     }
     m_nextRow.assign(std::size_t(levels), 0);
@@ -207,17 +232,70 @@ class Builder {
 
   std::string sourceName() const { return m_options.sourceName.empty() ? "the source" : m_options.sourceName; }
 
-  // Row y of level L: kept, and every other one passed to level L + 1 (every other sample).
+  // Row y of level L: kept, the cells below it bounded, and every other row passed to level
+  // L + 1 (every other sample).
   void pushRow(int level, int y, const float* row) {
     LevelRows& rows = m_rows[std::size_t(level)];
     std::vector<float>& kept = rows.append();
     std::copy(row, row + rows.width(), kept.begin());
+    if (level > 0 && y > 0) boundCellRow(level, y - 1);
     if (level < m_layout.rootLevel() && y % 2 == 0) {
       std::vector<float>& coarse = m_scratchRow;
       coarse.resize(std::size_t(m_rows[std::size_t(level) + 1].width()));
       for (std::size_t x = 0; x < coarse.size(); ++x) coarse[x] = kept[2 * x];
       pushRow(level + 1, y / 2, coarse.data());
     }
+  }
+
+  // Cell row y of level L >= 1, from level L - 1's samples and cells under it. A level-L cell
+  // covers 2 x 2 cells of level L - 1, whose triangulation refines the level-L one (every cell
+  // is cut along the same diagonal), so |level L - 1 - level L| over the cell is largest at the
+  // five level L - 1 samples the level-L cell does not share. Two bounds on |full resolution -
+  // level L|: the finer cells' residual plus that gap, and the distance between the cell's
+  // full-resolution range and its corners' range; the smaller is kept.
+  void boundCellRow(int level, int y) {
+    const LevelRows& rows = m_rows[std::size_t(level)];
+    const LevelRows& finer = m_rows[std::size_t(level) - 1];
+    const float* s0 = rows.row(y);
+    const float* s1 = rows.row(y + 1);
+    const float* f0 = finer.row(2 * y);
+    const float* f1 = finer.row(2 * y + 1);
+    const float* f2 = finer.row(2 * y + 2);
+    const CellBound* c0 = level > 1 ? m_cells[std::size_t(level) - 1].row(2 * y) : nullptr;
+    const CellBound* c1 = level > 1 ? m_cells[std::size_t(level) - 1].row(2 * y + 1) : nullptr;
+    CellBound* out = m_cells[std::size_t(level)].append().data();
+    auto body = [&](std::size_t begin, std::size_t end) {
+      for (std::size_t x = begin; x < end; ++x) {
+        const std::size_t i = 2 * x;
+        const double a = s0[x], b = s0[x + 1], c = s1[x], d = s1[x + 1];
+        const double gap = std::max({std::abs(f0[i + 1] - 0.5 * (a + b)), std::abs(f1[i] - 0.5 * (a + c)),
+                                     std::abs(f1[i + 1] - 0.5 * (b + c)), std::abs(f1[i + 2] - 0.5 * (b + d)),
+                                     std::abs(f2[i + 1] - 0.5 * (c + d))});
+        double below = 0.0;
+        float lo, hi;
+        if (c0 == nullptr) {  // level 1: the finer level is the full resolution
+          lo = std::min({f0[i], f0[i + 1], f0[i + 2], f1[i], f1[i + 1], f1[i + 2], f2[i], f2[i + 1], f2[i + 2]});
+          hi = std::max({f0[i], f0[i + 1], f0[i + 2], f1[i], f1[i + 1], f1[i + 2], f2[i], f2[i + 1], f2[i + 2]});
+        } else {
+          const CellBound* under[4] = {&c0[i], &c0[i + 1], &c1[i], &c1[i + 1]};
+          lo = under[0]->minHeight;
+          hi = under[0]->maxHeight;
+          for (const CellBound* u : under) {
+            below = std::max(below, double(u->residual));
+            lo = std::min(lo, u->minHeight);
+            hi = std::max(hi, u->maxHeight);
+          }
+        }
+        const double cornersLo = std::min({a, b, c, d}), cornersHi = std::max({a, b, c, d});
+        const double byRange = std::max(double(hi) - cornersLo, cornersHi - double(lo));
+        out[x] = CellBound{roundUp(std::min(below + gap, byRange)), lo, hi};
+      }
+    };
+    const std::size_t cells = std::size_t(m_cells[std::size_t(level)].width());
+    if (m_options.pool != nullptr)
+      m_options.pool->forRanges(cells, 4096, body);
+    else
+      body(0, cells);
   }
 
   bool ready(int level) const {
@@ -227,10 +305,8 @@ class Builder {
     const int lastRow = std::min(pitch * by + pitch, m_levelHeight[std::size_t(level)] - 1);
     if (m_rows[std::size_t(level)].end() <= lastRow) return false;
     if (level == 0) return true;
-    const int finer = level - 1;
-    const int childRows = std::min(2 * by + 2, m_layout.nodesY(finer));
-    const int finerLastRow = std::min(2 * pitch * by + 2 * pitch, m_levelHeight[std::size_t(finer)] - 1);
-    return m_nextRow[std::size_t(finer)] >= childRows && m_rows[std::size_t(finer)].end() > finerLastRow;
+    const int finer = level - 1;  // the children's ranges
+    return m_nextRow[std::size_t(finer)] >= std::min(2 * by + 2, m_layout.nodesY(finer));
   }
 
   Status finishReadyNodes() {
@@ -244,13 +320,15 @@ class Builder {
         }
       }
     }
-    // Level L's rows from pitch * (next row of L) on are still needed by L, from 2 pitch *
-    // (next row of L + 1) on by L + 1's residuals.
+    // Level L's sample and cell rows from pitch * (next row of L) on are still needed by its
+    // nodes, the last two of each by the cells of L + 1 still to come.
     const int pitch = m_layout.pitch();
     for (int level = 0; level <= m_layout.rootLevel(); ++level) {
-      int keep = pitch * m_nextRow[std::size_t(level)];
-      if (level < m_layout.rootLevel()) keep = std::min(keep, 2 * pitch * m_nextRow[std::size_t(level) + 1]);
-      m_rows[std::size_t(level)].dropBelow(keep);
+      const int nodesFrom = pitch * m_nextRow[std::size_t(level)];
+      auto& samples = m_rows[std::size_t(level)];
+      auto& cells = m_cells[std::size_t(level)];
+      samples.dropBelow(std::min(nodesFrom, samples.end() - 2));
+      cells.dropBelow(std::min(nodesFrom, cells.end() - 2));
     }
     return {};
   }
@@ -260,40 +338,9 @@ class Builder {
            node.bx;
   }
 
-  // A second bound on |full resolution - level surface| over the node's footprint, from the
-  // level-0 blocks' exact height ranges: over a block, the full resolution lies in the block's
-  // range and the level surface between the least and greatest level samples of the cells
-  // that meet the block. The sum of the levels' gaps grows with every level; this does not,
-  // and on rough terrain it is the smaller one at coarse levels.
-  double rangeResidual(const NodeId& node, const Heightfield& tile, int c0, int r0) const {
-    const int stride = m_layout.stride(node);
-    const int bx0 = int(node.bx) << node.level, by0 = int(node.by) << node.level;
-    const int bx1 = std::min(bx0 + (1 << node.level), m_layout.nodesX(0));
-    const int by1 = std::min(by0 + (1 << node.level), m_layout.nodesY(0));
-    double bound = 0.0;
-    for (int by = by0; by < by1; ++by) {
-      for (int bx = bx0; bx < bx1; ++bx) {
-        const NodeId block{0, std::uint32_t(bx), std::uint32_t(by)};
-        const SampleRect area = m_layout.footprint(block);
-        const PyramidNode& range = m_nodes[index(block)];
-        const int i0 = std::clamp(area.x0 / stride - c0, 0, tile.width - 1);
-        const int i1 = std::clamp((area.x1 + stride - 1) / stride - c0, 0, tile.width - 1);
-        const int j0 = std::clamp(area.y0 / stride - r0, 0, tile.height - 1);
-        const int j1 = std::clamp((area.y1 + stride - 1) / stride - r0, 0, tile.height - 1);
-        float lo = tile.at(i0, j0), hi = lo;
-        for (int j = j0; j <= j1; ++j)
-          for (int i = i0; i <= i1; ++i) {
-            lo = std::min(lo, tile.at(i, j));
-            hi = std::max(hi, tile.at(i, j));
-          }
-        bound = std::max({bound, double(range.maxHeight) - double(lo), double(hi) - double(range.minHeight)});
-      }
-    }
-    return bound;
-  }
-
   // Everything but the dikes' bound of node (level, bx, by), and its tile written.
-  Status finishNode(const NodeId& node, std::vector<unsigned char>& slot, Heightfield& tile) {
+  Status finishNode(const NodeId& node, std::vector<unsigned char>& slot, Heightfield& tile,
+                    std::vector<float>& residual) {
     const LevelRows& rows = m_rows[node.level];
     const int pitch = m_layout.pitch();
     const int c0 = pitch * int(node.bx), r0 = pitch * int(node.by);
@@ -309,47 +356,42 @@ class Builder {
       std::copy_n(rows.row(r0 + j) + c0, columns, tile.heights.begin() + std::ptrdiff_t(j) * columns);
 
     PyramidNode& data = m_nodes[index(node)];
+    const std::size_t cellCount =
+        columns >= 2 && tileRows >= 2 ? std::size_t(columns - 1) * std::size_t(tileRows - 1) : 0;
+    residual.assign(cellCount, 0.0f);
     if (node.level == 0) {
       const auto [lo, hi] = std::minmax_element(tile.heights.begin(), tile.heights.end());
       data.minHeight = *lo;
       data.maxHeight = *hi;
-      data.residual = 0.0f;
     } else {
-      float lo = kInfinity, hi = -kInfinity, residual = 0.0f;
+      float lo = kInfinity, hi = -kInfinity;
       for (int quadrant = 0; quadrant < 4; ++quadrant) {
         const NodeId child = node.child(quadrant);
         if (!m_layout.exists(child)) continue;
         const PyramidNode& c = m_nodes[index(child)];
         lo = std::min(lo, c.minHeight);
         hi = std::max(hi, c.maxHeight);
-        residual = std::max(residual, c.residual);
-      }
-      // Level L - 1 samples against the level-L surface, over the part of the footprint the
-      // level-L surface covers; the level L - 1 triangulation refines the level-L one, so
-      // their largest difference is at these samples.
-      const LevelRows& finer = m_rows[std::size_t(node.level) - 1];
-      double gap = 0.0;
-      for (int j = 2 * r0; j <= 2 * (r0 + tileRows - 1); ++j) {
-        const float* row = finer.row(j);
-        for (int i = 2 * c0; i <= 2 * (c0 + columns - 1); ++i) {
-          if (((i | j) & 1) == 0) continue;  // shared by both levels
-          gap = std::max(gap, std::abs(double(row[i]) - levelSurfaceAt(rows, i, j)));
-        }
       }
       data.minHeight = lo;
       data.maxHeight = hi;
-      data.residual = roundUp(std::min(double(residual) + gap, rangeResidual(node, tile, c0, r0)));
+      const RowWindow<CellBound>& cells = m_cells[node.level];
+      for (int j = 0; j + 1 < tileRows; ++j) {
+        const CellBound* row = cells.row(r0 + j) + c0;
+        for (int i = 0; i + 1 < columns; ++i)
+          residual[std::size_t(j) * std::size_t(columns - 1) + std::size_t(i)] = row[i].residual;
+      }
     }
+    std::fill(slot.begin(), slot.end(), 0);
+    data.residual = encodeResiduals(residual, slot.data() + tileResidualAt(m_layout.k()));
     data.lodError = kInfinity;  // not drawable at its stride: always refined
     data.floorError = kInfinity;
-    if (columns >= 2 && tileRows >= 2) {
-      auto lod = BlockLod::buildFromLevel(tile, m_layout.interior(node), data.residual);
+    if (cellCount > 0) {
+      auto lod = BlockLod::buildFromLevel(tile, m_layout.interior(node), residual);
       if (!lod) return lod.error();
       data.lodError = lod->maxError();
       data.floorError = lod->floorError();
     }
 
-    std::fill(slot.begin(), slot.end(), 0);
     put<std::uint32_t>(slot.data(), 4, std::uint32_t(index(node)));
     put<std::uint16_t>(slot.data(), 8, std::uint16_t(columns));
     put<std::uint16_t>(slot.data(), 10, std::uint16_t(tileRows));
@@ -370,8 +412,9 @@ class Builder {
       try {
         std::vector<unsigned char> slot(tileSlotBytes(m_layout.k()));
         Heightfield tile;
+        std::vector<float> residual;
         for (; bx < end && status; ++bx)
-          status = finishNode(NodeId{std::uint8_t(level), std::uint32_t(bx), std::uint32_t(by)}, slot, tile);
+          status = finishNode(NodeId{std::uint8_t(level), std::uint32_t(bx), std::uint32_t(by)}, slot, tile, residual);
         if (!status) --bx;
       } catch (const std::bad_alloc&) {
         status = makeError(ErrorKind::OutOfMemory, m_path.string() + ": no memory for a node");
@@ -416,6 +459,7 @@ class Builder {
   std::uint64_t m_nodeCount = 0;
   std::vector<std::uint64_t> m_levelOffset;
   std::vector<LevelRows> m_rows;
+  std::vector<RowWindow<CellBound>> m_cells;  // level 0's stays empty: its residuals are 0
   std::vector<int> m_levelHeight;
   std::vector<int> m_nextRow;  // the next row of nodes each level finishes
   std::vector<PyramidNode> m_nodes;

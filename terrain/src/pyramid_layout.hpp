@@ -38,8 +38,12 @@ inline std::size_t borderBytes(int width, int height) {
   return (std::size_t(width) + std::size_t(height)) * sizeof(float) + 8;
 }
 inline std::uint32_t tileSide(int k) { return (1u << k) + 2; }
-inline std::uint32_t tileSlotBytes(int k) {
-  return std::uint32_t(kPyramidTileHeaderBytes + std::size_t(tileSide(k)) * tileSide(k) * sizeof(float));
+// A tile slot: the header, room for tileSide^2 samples, then the cells' residuals: one float
+// step (metres) and one byte per cell, the residual being at most byte * step.
+inline std::size_t tileResidualAt(int k) {
+  return kPyramidTileHeaderBytes + std::size_t(tileSide(k)) * tileSide(k) * sizeof(float);
 }
+inline std::size_t tileCellsMax(int k) { return std::size_t(tileSide(k) - 1) * (tileSide(k) - 1); }
+inline std::uint32_t tileSlotBytes(int k) { return std::uint32_t(tileResidualAt(k) + sizeof(float) + tileCellsMax(k)); }
 
 }  // namespace polder::terrain::pyramid_layout

@@ -227,48 +227,117 @@ Result<BlockLod> BlockLod::build(const Heightfield& field, const BlockFootprint&
 
 Result<BlockLod> BlockLod::buildFromLevel(const Heightfield& samples, const BlockFootprint& footprint,
                                           float residualM) {
-  assert(footprint.stride >= 1 && std::has_single_bit(unsigned(footprint.stride)) &&
-         "BlockLod::buildFromLevel: stride must be a power of two");
   if (!(residualM >= 0.0f))
     return makeError(ErrorKind::InvalidArgument, "BlockLod::buildFromLevel: the residual must be >= 0");
+  std::vector<float> cells;
+  if (samples.width >= 2 && samples.height >= 2)
+    cells.assign(std::size_t(samples.width - 1) * std::size_t(samples.height - 1), residualM);
+  return buildFromLevel(samples, footprint, cells);
+}
+
+Result<BlockLod> BlockLod::buildFromLevel(const Heightfield& samples, const BlockFootprint& footprint,
+                                          std::span<const float> cellResidualM) {
+  assert(footprint.stride >= 1 && std::has_single_bit(unsigned(footprint.stride)) &&
+         "BlockLod::buildFromLevel: stride must be a power of two");
+  const int pitch = samples.width - 1;
+  if (samples.width >= 2 && samples.height >= 2 &&
+      cellResidualM.size() != std::size_t(pitch) * std::size_t(samples.height - 1))
+    return makeError(ErrorKind::InvalidArgument, "BlockLod::buildFromLevel: " + std::to_string(cellResidualM.size()) +
+                                                     " cell residuals for a tile of " + std::to_string(samples.width) +
+                                                     " x " + std::to_string(samples.height) + " samples");
+  for (const float r : cellResidualM)
+    if (!(r >= 0.0f) || std::isinf(r))
+      return makeError(ErrorKind::InvalidArgument, "BlockLod::buildFromLevel: a residual is not finite and >= 0");
   BlockLod lod;
   Status status = lod.rebuild(samples, BlockFootprint{0, 0, footprint.k, 1});
   if (!status) return status.error();
-  if (footprint.stride == 1 && residualM == 0.0f) {
+  const bool noResidual = std::all_of(cellResidualM.begin(), cellResidualM.end(), [](float r) { return r == 0.0f; });
+  if (footprint.stride == 1 && noResidual) {
     lod.m_footprint = footprint;
     lod.m_origin = glm::dvec3(footprint.x0 * samples.spacingX, footprint.y0 * samples.spacingY, 0.0);
     return lod;
   }
-  // Against the level surface every half cell's error is what build() at stride 1 finds on the
-  // fly (the gap at its centre, or 0 for a half cut like that surface); kept per half cell here,
-  // as at any stride above 1, since the full-resolution surface is not the level's.
-  const int n = footprint.cells();
-  lod.m_leafError.assign(2 * std::size_t(n) * std::size_t(n), residualM);
-  for (int cj = 0; cj < lod.m_cellsY; ++cj)
-    for (int ci = 0; ci < lod.m_cellsX; ++ci) {
-      const bool cutLikeSurface = ((ci + cj) & 1) != 0;
-      const float gap = cutLikeSurface ? 0.0f
-                                       : roundUp(cellCentreGap(lod.height(ci, cj), lod.height(ci + 1, cj),
-                                                               lod.height(ci, cj + 1), lod.height(ci + 1, cj + 1)));
-      for (int sideIndex = 0; sideIndex < 2; ++sideIndex)
-        lod.m_leafError[(std::size_t(cj) * n + ci) * 2 + sideIndex] = roundUp(double(gap) + residualM);
-    }
-  const int side = n + 1;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const std::size_t v = std::size_t(j) * side + i;
-      const bool corner = (i == 0 || i == n) && (j == 0 || j == n);
-      if (!corner) lod.m_error[v] = roundUp(double(lod.m_error[v]) + residualM);  // +inf stays
-      lod.m_radius[v] = roundUp(double(lod.m_radius[v]) + residualM);
-      for (int t = 0; t < 2; ++t)
-        lod.m_triangleError[2 * v + t] = roundUp(double(lod.m_triangleError[2 * v + t]) + residualM);
-    }
-  lod.m_maxError = roundUp(double(lod.m_maxError) + residualM);
-  lod.m_floorError = *std::max_element(lod.m_leafError.begin(), lod.m_leafError.end());
+  lod.addCellResiduals(cellResidualM, pitch);
   lod.m_footprint = footprint;
   const double fullSpacingX = samples.spacingX / footprint.stride, fullSpacingY = samples.spacingY / footprint.stride;
   lod.m_origin = glm::dvec3(footprint.x0 * fullSpacingX, footprint.y0 * fullSpacingY, 0.0);
   return lod;
+}
+
+float BlockLod::coverResidual(int ax, int ay, int bx, int by, int cx, int cy, std::span<const float> residual,
+                              int pitch, std::vector<float>& triangleResidual) const {
+  if (std::min({ax, bx, cx}) >= m_cellsX || std::min({ay, by, cy}) >= m_cellsY) return 0.0f;  // clipped away
+  if (isHalfCell(bx, cx)) {
+    const int ci = std::min(bx, cx), cj = std::min(by, cy);
+    return residual[std::size_t(cj) * std::size_t(pitch) + std::size_t(ci)];
+  }
+  const int mx = (bx + cx) / 2, my = (by + cy) / 2;
+  const float r = std::max(coverResidual(mx, my, ax, ay, bx, by, residual, pitch, triangleResidual),
+                           coverResidual(mx, my, cx, cy, ax, ay, residual, pitch, triangleResidual));
+  const std::size_t v = std::size_t(my) * std::size_t(m_footprint.verticesPerSide()) + std::size_t(mx);
+  triangleResidual[2 * v + std::size_t(triangleSide(ax, ay, bx, by, cx, cy))] = r;
+  return r;
+}
+
+void BlockLod::addCellResiduals(std::span<const float> residual, int pitch) {
+  const int n = m_footprint.cells(), side = n + 1;
+  const std::size_t vertexCount = std::size_t(side) * std::size_t(side);
+  // Against the level surface every half cell's error is what build() at stride 1 finds on the
+  // fly (the gap at its centre, or 0 for a half cut like that surface); kept per half cell here,
+  // as at any stride above 1, since the full-resolution surface is not the level's.
+  m_leafError.assign(2 * std::size_t(n) * std::size_t(n), 0.0f);
+  for (int cj = 0; cj < m_cellsY; ++cj)
+    for (int ci = 0; ci < m_cellsX; ++ci) {
+      const bool cutLikeSurface = ((ci + cj) & 1) != 0;
+      const double gap = cutLikeSurface ? 0.0
+                                        : cellCentreGap(height(ci, cj), height(ci + 1, cj), height(ci, cj + 1),
+                                                        height(ci + 1, cj + 1));
+      const double r = residual[std::size_t(cj) * std::size_t(pitch) + std::size_t(ci)];
+      for (int sideIndex = 0; sideIndex < 2; ++sideIndex)
+        m_leafError[(std::size_t(cj) * n + ci) * 2 + sideIndex] = roundUp(gap + r);
+    }
+
+  // Each bintree triangle's largest cell residual, then each vertex's largest over its own
+  // triangles and every vertex below it (fine to coarse, as the build: side midpoints, whose
+  // children are the finer square centres, before the square centres of the same size).
+  std::vector<float> triangleResidual(2 * vertexCount, 0.0f);
+  const float rootResidual = std::max(coverResidual(0, 0, n, 0, 0, n, residual, pitch, triangleResidual),
+                                      coverResidual(n, n, 0, n, n, 0, residual, pitch, triangleResidual));
+  std::vector<float> below(vertexCount, 0.0f);
+  for (int shift = 0; shift < m_footprint.k; ++shift) {
+    const int h = 1 << shift;
+    for (const bool squareCentres : {false, true}) {
+      for (int j = 0; j <= n; j += h)
+        for (int i = 0; i <= n; i += h) {
+          if ((i | j) == 0 || std::countr_zero(unsigned(i | j)) != shift) continue;
+          const bool squareCentre = ((i >> shift) & 1) != 0 && ((j >> shift) & 1) != 0;
+          if (squareCentre != squareCentres) continue;
+          Tri tris[2];
+          const int count = splitTriangles(i, j, n, tris);
+          const std::size_t v = std::size_t(j) * side + i;
+          float r = 0.0f;
+          for (int t = 0; t < count; ++t) {
+            const Tri& tri = tris[t];
+            r = std::max(
+                r, triangleResidual[2 * v + std::size_t(triangleSide(tri.ax, tri.ay, tri.bx, tri.by, tri.cx, tri.cy))]);
+            if (shift == 0 && !squareCentres) continue;  // its legs are cell diagonals: half cells below
+            r = std::max({r, below[std::size_t((tri.ay + tri.by) / 2) * side + std::size_t((tri.ax + tri.bx) / 2)],
+                          below[std::size_t((tri.cy + tri.ay) / 2) * side + std::size_t((tri.cx + tri.ax) / 2)]});
+          }
+          below[v] = r;
+        }
+    }
+  }
+
+  for (std::size_t v = 0; v < vertexCount; ++v) {
+    if (below[v] == 0.0f) continue;
+    m_error[v] = roundUp(double(m_error[v]) + below[v]);  // +inf stays
+    m_radius[v] = roundUp(double(m_radius[v]) + below[v]);
+    for (int t = 0; t < 2; ++t)
+      m_triangleError[2 * v + t] = roundUp(double(m_triangleError[2 * v + t]) + triangleResidual[2 * v + t]);
+  }
+  m_maxError = roundUp(double(m_maxError) + rootResidual);
+  m_floorError = m_leafError.empty() ? 0.0f : *std::max_element(m_leafError.begin(), m_leafError.end());
 }
 
 Status BlockLod::rebuild(const Heightfield& field, const BlockFootprint& fp) {

@@ -135,6 +135,89 @@ TEST(Pyramid, ErrorBoundsHoldOnRoughTerrain) {
   });
 }
 
+// The level surface of a tile (cells cut from (x + 1, y) to (x, y + 1)) at full-resolution
+// sample (x, y) of a cell, (x0, y0) the tile's first sample and s its stride.
+double levelSurface(const Heightfield& tile, int s, int x0, int y0, int x, int y) {
+  const int i = (x - x0) / s, j = (y - y0) / s;
+  const double u = double(x - x0 - i * s) / s, v = double(y - y0 - j * s) / s;
+  const int i1 = std::min(i + 1, tile.width - 1), j1 = std::min(j + 1, tile.height - 1);
+  const double h00 = tile.at(i, j), h10 = tile.at(i1, j), h01 = tile.at(i, j1), h11 = tile.at(i1, j1);
+  if (u + v <= 1.0) return h00 + u * (h10 - h00) + v * (h01 - h00);
+  return h11 + (1.0 - u) * (h01 - h11) + (1.0 - v) * (h10 - h11);
+}
+
+// Over each cell the full resolution lies within the cell's residual of the level surface (the
+// two surfaces differ most at full-resolution samples: every level edge runs along full-
+// resolution edges or crosses them at samples), and the residuals follow the terrain: most
+// cells' are well below their node's largest.
+TEST(Pyramid, EachCellsResidualBoundsTheFullResolutionOverIt) {
+  const Heightfield field = makeField(203, 171, 12);
+  TempFolder folder;
+  auto pyramid = openOrFail(buildOrFail(field, folder.path() / "cells.pyr"));
+  ASSERT_NE(pyramid, nullptr);
+  const BlockLayout& layout = pyramid->layout();
+  PyramidTile tile;
+  std::size_t cells = 0, wellBelow = 0;
+  forEachNode(layout, [&](const NodeId& node) {
+    ASSERT_TRUE(pyramid->readTile(node, tile).ok()) << name(node);
+    const int w = tile.samples.width - 1, h = tile.samples.height - 1;
+    ASSERT_EQ(tile.cellResidual.size(), std::size_t(std::max(w, 0)) * std::size_t(std::max(h, 0))) << name(node);
+    const SampleRect area = layout.footprint(node);
+    const int s = layout.stride(node);
+    float largest = 0.0f;
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        const float r = tile.cellResidual[std::size_t(j) * std::size_t(w) + std::size_t(i)];
+        largest = std::max(largest, r);
+        double worst = 0.0;
+        for (int y = area.y0 + j * s; y <= area.y0 + (j + 1) * s; ++y)
+          for (int x = area.x0 + i * s; x <= area.x0 + (i + 1) * s; ++x)
+            worst = std::max(worst, std::abs(field.at(x, y) - levelSurface(tile.samples, s, area.x0, area.y0, x, y)));
+        ASSERT_GE(double(r), worst - 1e-3) << name(node) << " cell " << i << "," << j;
+        if (node.level == 0) ASSERT_EQ(r, 0.0f) << name(node);
+      }
+    EXPECT_EQ(largest, pyramid->node(node).residual) << name(node);
+    if (node.level == 0) return;
+    for (const float r : tile.cellResidual) {
+      ++cells;
+      wellBelow += r < 0.5f * largest;
+    }
+  });
+  EXPECT_GT(wellBelow, cells / 2);
+}
+
+// A tile's hierarchy with its cells' residuals bounds the full-resolution one vertex by vertex,
+// and is tighter than one residual for the whole node.
+TEST(Pyramid, ATilesHierarchyBoundsTheFullResolutionVertexByVertex) {
+  const Heightfield field = makeField(203, 171, 13);
+  TempFolder folder;
+  auto pyramid = openOrFail(buildOrFail(field, folder.path() / "lod.pyr"));
+  ASSERT_NE(pyramid, nullptr);
+  const BlockLayout& layout = pyramid->layout();
+  PyramidTile tile;
+  std::size_t vertices = 0, tighter = 0;
+  forEachNode(layout, [&](const NodeId& node) {
+    if (node.level == 0) return;
+    ASSERT_TRUE(pyramid->readTile(node, tile).ok()) << name(node);
+    const BlockFootprint fp = layout.interior(node);
+    auto exact = BlockLod::build(field, fp);
+    if (!exact) return;  // no whole cell inside the DEM at this stride
+    const auto perCell = BlockLod::buildFromLevel(tile.samples, fp, tile.cellResidual).value();
+    const auto uniform = BlockLod::buildFromLevel(tile.samples, fp, pyramid->node(node).residual).value();
+    EXPECT_GE(perCell.maxError(), exact->maxError()) << name(node);
+    EXPECT_GE(perCell.floorError(), exact->floorError()) << name(node);
+    EXPECT_LE(perCell.maxError(), uniform.maxError()) << name(node);
+    for (int j = 0; j <= exact->cellsY(); ++j)
+      for (int i = 0; i <= exact->cellsX(); ++i) {
+        ASSERT_GE(perCell.vertexError(i, j), exact->vertexError(i, j)) << name(node) << " vertex " << i << "," << j;
+        ASSERT_LE(perCell.vertexError(i, j), uniform.vertexError(i, j)) << name(node) << " vertex " << i << "," << j;
+        ++vertices;
+        tighter += perCell.vertexError(i, j) < uniform.vertexError(i, j);
+      }
+  });
+  EXPECT_GT(tighter, vertices / 4);
+}
+
 TEST(Pyramid, TilesHoldTheStridedSamplesOfTheirFootprint) {
   const Heightfield field = makeField(170, 140, 5);
   TempFolder folder;

@@ -199,13 +199,13 @@ TEST(BlockLoading, OnlyASettledFrameWaitsForTheLoadersAndEachWaitIsCounted) {
     loadsAsked += (*engine)->update(lowCamera(*field, 300.0 + 220.0 * frame)).stats.loadsRequested;
   ASSERT_GT(loadsAsked, 0u) << "the frames must have had something to wait for";
   EXPECT_EQ((*engine)->loadStats().frameWaits, 0u);
-  // Somewhere the flight never looked, nor looked ahead to: the loaders have work left.
-  Camera elsewhere = lowCamera(*field, 2000.0);
-  elsewhere.position.y = field->extentY() * 0.8;
-  elsewhere.yawDeg = 210.0;
-  const TerrainFrame& settled = (*engine)->updateSettled(elsewhere);
+  // A settled first frame of a new engine, which holds none of the blocks it needs yet: it
+  // waits, and draws every block at its selected level.
+  auto fresh = TerrainEngine::create(field);
+  ASSERT_TRUE(fresh.ok());
+  const TerrainFrame& settled = (*fresh)->updateSettled(lowCamera(*field, 300.0));
   EXPECT_EQ(settled.stats.blocksOnAncestor, 0u);
-  EXPECT_GT((*engine)->loadStats().frameWaits, 0u);
+  EXPECT_GT((*fresh)->loadStats().frameWaits, 0u);
 }
 
 }  // namespace

@@ -120,7 +120,7 @@ float PyramidDikeBound::error(const terrain::DikeVertex& a, const terrain::DikeV
     const terrain::PyramidNode& data = m_pyramid.node(node);
     const double byRange = std::max(zHigh - double(data.minHeight), double(data.maxHeight) - zLow);
     // Where the tile reaches over that part (it starts where the footprint does), its level
-    // surface plus the residual bounds it too.
+    // surface plus each cell's residual bounds it too.
     const SampleGrid& grid = m_samples->cut[candidates[n]];
     const int s = grid.stride;
     const bool tileCovers = grid.samples && grid.x0 + (grid.samples->width - 1) * s >= fx1 &&
@@ -138,11 +138,12 @@ float PyramidDikeBound::error(const terrain::DikeVertex& a, const terrain::DikeV
         // The cell's two level triangles, cut from its south-east to its north-west corner.
         const Corner sw{x0, y0, grid.samples->at(i, j)}, se{x0 + s, y0, grid.samples->at(i + 1, j)};
         const Corner nw{x0, y0 + s, grid.samples->at(i, j + 1)}, ne{x0 + s, y0 + s, grid.samples->at(i + 1, j + 1)};
-        largest = std::max(largest, largestDifference(triangle, plane, sw, se, nw));
-        largest = std::max(largest, largestDifference(triangle, plane, se, ne, nw));
+        const double cell =
+            std::max(largestDifference(triangle, plane, sw, se, nw), largestDifference(triangle, plane, se, ne, nw));
+        largest = std::max(largest, cell + double(grid.residual(i, j)));
       }
     }
-    bound = std::max(bound, std::min(largest + double(data.residual), byRange));
+    bound = std::max(bound, std::min(largest, byRange));
   }
   if (covered != std::int64_t(tx1 - tx0) * std::int64_t(ty1 - ty0)) return fallback;
   return std::min(float(bound), fallback);

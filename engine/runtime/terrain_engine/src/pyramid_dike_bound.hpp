@@ -2,13 +2,14 @@
 // engine streams (dike_check.hpp; docs/streaming.md "Dikes from tiles").
 //
 // The full resolution is not in memory, but every node of the cut has its tile: the level
-// surface of its footprint at its stride, and the node's residual, a bound on how far the full
-// resolution lies from that surface. Over one level triangle the difference between a dike
-// triangle's plane and the level surface is linear, so over the part of the dike triangle
-// inside it, it is largest at a corner of that part (the dike triangle clipped to the level
-// triangle). Hence, over the part of T in node N's footprint,
+// surface of its footprint at its stride, and per cell a residual, a bound on how far the full
+// resolution lies from that surface over the cell. Over one level triangle the difference
+// between a dike triangle's plane and the level surface is linear, so over the part of the
+// dike triangle inside it, it is largest at a corner of that part (the dike triangle clipped
+// to the level triangle). Hence, over the part of T in node N's footprint,
 //
-//   error <= min(max over those corners of |plane - level surface| + residual(N),
+//   error <= min(max over N's cells c of (max over the corners in c of |plane - level surface|
+//                                         + residual(c)),
 //                the largest distance between T's vertex heights and N's height range),
 //
 // the second because the full resolution there lies in N's range. T's bound is the largest over

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include <polder/terrain/heightfield.hpp>
 #include <polder/terrain/rtin.hpp>
@@ -14,9 +15,12 @@ namespace polder {
 struct ResidentBlock {
   terrain::BlockLod lod;
   terrain::Heightfield tile;          // empty when the engine's source is a heightfield
+  std::vector<float> tileResidual;    // the tile's cells' residuals (PyramidTile::cellResidual)
   std::uint64_t lastNeededFrame = 0;  // the last frame whose selection or meshes used it
 
-  std::size_t memoryBytes() const { return lod.memoryBytes() + tile.heights.capacity() * sizeof(float); }
+  std::size_t memoryBytes() const {
+    return lod.memoryBytes() + (tile.heights.capacity() + tileResidual.capacity()) * sizeof(float);
+  }
 };
 
 }  // namespace polder

@@ -22,6 +22,14 @@ struct SampleGrid {
   int x0 = 0;  // the full-resolution sample of samples(0, 0)
   int y0 = 0;
   int stride = 1;
+  // A pyramid tile's bound on |full resolution - level surface| per cell of `samples`
+  // (PyramidTile::cellResidual); empty where `samples` is the full resolution.
+  std::span<const float> cellResidual;
+
+  float residual(int i, int j) const {
+    return cellResidual.empty() ? 0.0f
+                                : cellResidual[std::size_t(j) * std::size_t(samples->width - 1) + std::size_t(i)];
+  }
 
   bool holds(int x, int y) const {
     const int dx = x - x0, dy = y - y0;

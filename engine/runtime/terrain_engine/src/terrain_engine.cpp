@@ -205,7 +205,7 @@ struct TerrainEngine::Impl {
   ~Impl() { loader.reset(); }  // the workers' builds read the source
 
   // What a node needs to be drawn: its hierarchy, built from the heightfield or from the
-  // node's tile (one read, checked) and residual. Any thread.
+  // node's tile (one read, checked) and its cells' residuals. Any thread.
   Result<ResidentBlock> buildBlock(const terrain::NodeId& node) const {
     ResidentBlock block;
     if (field) {
@@ -216,10 +216,11 @@ struct TerrainEngine::Impl {
     }
     terrain::PyramidTile tile;
     if (Status read = pyramid->readTile(node, tile); !read) return read.error();
-    auto lod = terrain::BlockLod::buildFromLevel(tile.samples, layout.interior(node), pyramid->node(node).residual);
+    auto lod = terrain::BlockLod::buildFromLevel(tile.samples, layout.interior(node), tile.cellResidual);
     if (!lod) return lod.error();
     block.lod = std::move(*lod);
     block.tile = std::move(tile.samples);
+    block.tileResidual = std::move(tile.cellResidual);
     return block;
   }
 
@@ -264,7 +265,7 @@ struct TerrainEngine::Impl {
     const ResidentBlock* block = node == layout.root() ? root.get() : lods.peek(terrain::nodeKey(node));
     if (!block) return SampleGrid{};
     const terrain::SampleRect footprint = layout.footprint(node);
-    return SampleGrid{&block->tile, footprint.x0, footprint.y0, layout.stride(node)};
+    return SampleGrid{&block->tile, footprint.x0, footprint.y0, layout.stride(node), block->tileResidual};
   }
 
   bool drawable(const terrain::NodeId& node) const { return std::isfinite(quadtree.info(node).floorDelta()); }

@@ -7,9 +7,10 @@
 // Levels. Level L's surface is the DEM sampled every s = 2^L samples, cut as heightfield.hpp
 // cuts cells. A node's tile holds its footprint's samples of that surface: (2^k + 2)^2, its
 // interior and the first column and row beyond (its dike strips' far side), fewer where the
-// DEM ends. The node's residual bounds how far the full-resolution surface lies from the level
-// surface over the footprint; BlockLod::buildFromLevel turns a tile and its residual into an
-// error hierarchy whose errors bound the full-resolution ones.
+// DEM ends. Each cell of a tile carries a residual, a bound on how far the full-resolution
+// surface lies from the level surface over the cell, and the node's residual is the largest of
+// its cells'; BlockLod::buildFromLevel turns a tile and its cells' residuals into an error
+// hierarchy whose errors bound the full-resolution ones.
 //
 // The file (all little-endian):
 //   header   kHeaderBytes at offset 0: magic "PLDRPYR1", version, sizes, spacing, k, levels,
@@ -23,7 +24,9 @@
 //            resolution, the samples the dikes use along the border, each followed by its
 //            CRC-32C.
 //   tiles    one slot of tileSlotBytes per node in node order: CRC-32C of the rest of the slot,
-//            the node's index, columns and rows, then the samples, row-major, south row first.
+//            the node's index, columns and rows, then the samples, row-major, south row first,
+//            in room for tileSide^2; then the cells' residuals: a float step and one byte per
+//            cell, row-major, the residual at most byte * step (rounded up when written).
 // Every read checks the CRC of what it read: corruption is an error, never a height.
 //
 // Threads: an open Pyramid is immutable; readTile() may run on any number of threads at once.
@@ -48,7 +51,7 @@ namespace polder::terrain {
 static_assert(std::endian::native == std::endian::little, "pyramid files are little-endian");
 
 inline constexpr char kPyramidMagic[8] = {'P', 'L', 'D', 'R', 'P', 'Y', 'R', '1'};
-inline constexpr std::uint32_t kPyramidVersion = 1;
+inline constexpr std::uint32_t kPyramidVersion = 2;
 inline constexpr std::size_t kPyramidHeaderBytes = 4096;
 inline constexpr std::size_t kPyramidNodeChunk = 4096;  // node records per CRC
 inline constexpr std::size_t kPyramidTileHeaderBytes = 16;
@@ -89,6 +92,9 @@ struct PyramidHeader {
 struct PyramidTile {
   NodeId node;
   Heightfield samples;
+  // Per cell of `samples` ((width - 1) x (height - 1), row-major, south row first): a bound on
+  // |full resolution - level surface| over the cell; all 0 at level 0.
+  std::vector<float> cellResidual;
 };
 
 class Pyramid {

@@ -3,11 +3,14 @@
 // levels are made as the rows arrive (level L + 1 takes every other sample of every other row
 // of level L), each node is finished as soon as its rows are in, and its tile is written then.
 //
-// Per node: the exact height range of its full-resolution footprint; the residual, a bound on
-// |full resolution - level surface| (level 0: 0; level L: the children's residual plus the
-// largest gap between level L - 1's samples and the level-L surface, which the level L - 1
-// triangulation refines because every cell is cut along the same diagonal); the error
-// bounds of BlockLod::buildFromLevel over the tile with that residual; and the dikes' bound,
+// Per cell of every level above 0: the exact height range of the full-resolution samples under
+// it and its residual, a bound on |full resolution - level surface| over it: the smaller of the
+// finer cells' residual plus the largest gap between level L - 1's samples and the level-L
+// surface over the cell (the level L - 1 triangulation refines the level-L one because every
+// cell is cut along the same diagonal) and the distance between the cell's range and its
+// corners'. Per node: the exact height range of its full-resolution footprint; its cells'
+// residuals, stored in its tile, and the largest of them; the error bounds of
+// BlockLod::buildFromLevel over the tile with those residuals; and the dikes' bound,
 // the exact height range of dikeBoundRegion (dike_errors.hpp) from the neighbours' ranges.
 //
 // Atomic: the file is written as `<out>.partial-<pid>` in the same folder, its magic last,

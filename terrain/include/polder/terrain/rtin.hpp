@@ -78,6 +78,7 @@
 #include <cassert>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -145,12 +146,17 @@ class BlockLod {
   // them (docs/streaming.md): `samples` has vertex (i, j) of the block at (i, j), spacing
   // stride times the full-resolution spacing (fewer than 2^k + 1 columns or rows for a block
   // clipped by the DEM's edge). Its errors are exact against the level surface (the samples
-  // triangulated as heightfield.hpp cuts cells) plus `residualM`, a bound on how far the
-  // full-resolution surface lies from the level surface over the block, so they bound the
-  // errors build() would find against the full resolution. At stride 1 `samples` is the
-  // full resolution, residualM is 0 and the result is build()'s. At a stride above 1 half
-  // cells are not flipped, as in build(): each keeps its error, at least residualM, and so
-  // does floorError().
+  // triangulated as heightfield.hpp cuts cells) plus a bound on how far the full-resolution
+  // surface lies from the level surface: `cellResidualM`, one bound per cell of `samples`
+  // ((width - 1) x (height - 1), row-major, south row first). A triangle adds the largest bound
+  // of the cells it covers, a vertex the largest of every triangle below it, so errors stay
+  // monotone and bound the errors build() would find against the full resolution. At stride 1
+  // with no residual `samples` is the full resolution and the result is build()'s. At a stride
+  // above 1 half cells are not flipped, as in build(): each keeps its error, at least its
+  // cell's residual, and so does floorError().
+  static Result<BlockLod> buildFromLevel(const Heightfield& samples, const BlockFootprint& footprint,
+                                         std::span<const float> cellResidualM);
+  // Same with one residual for every cell.
   static Result<BlockLod> buildFromLevel(const Heightfield& samples, const BlockFootprint& footprint, float residualM);
 
   // (a) View-dependent: the conforming mesh of the vertices active for `view` (see LodView).
@@ -224,6 +230,13 @@ class BlockLod {
   void markPinned(const BoundaryPins& pins, RtinScratch& scratch) const;
   // Error of a half cell: cell (ci, cj), side as triangleSide in rtin_grid.hpp.
   float leafError(int ci, int cj, int sideIndex) const;
+  // buildFromLevel's second half: adds the cells' residuals (cell (ci, cj) at
+  // residual[cj * pitch + ci]) to the errors and radii built against the level surface.
+  void addCellResiduals(std::span<const float> residual, int pitch);
+  // The largest residual of the cells under bintree triangle (a; b, c), stored for the
+  // triangle in `triangleResidual` (per vertex, as m_triangleError).
+  float coverResidual(int ax, int ay, int bx, int by, int cx, int cy, std::span<const float> residual, int pitch,
+                      std::vector<float>& triangleResidual) const;
 
   BlockFootprint m_footprint;
   int m_cellsX = 0;
