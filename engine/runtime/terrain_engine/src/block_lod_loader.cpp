@@ -5,12 +5,12 @@
 
 namespace polder {
 
-BlockLodLoader::BlockLodLoader(int threads, Build build, std::size_t reserve)
-    : m_build(std::move(build)), m_reserve(reserve) {
+BlockLodLoader::BlockLodLoader(int threads, Build build, std::size_t reserve, std::size_t maxHeld)
+    : m_build(std::move(build)), m_reserve(reserve), m_maxHeld(std::max(maxHeld, std::size_t(std::max(threads, 1)))) {
   threads = std::max(threads, 1);
   m_pending.reserve(reserve);
   m_building.reserve(std::size_t(threads));
-  m_finished.reserve(reserve);
+  m_finished.reserve(m_maxHeld);
   m_threads.reserve(std::size_t(threads));
   for (int i = 0; i < threads; ++i) m_threads.emplace_back([this] { work(); });
 }
@@ -40,9 +40,12 @@ bool BlockLodLoader::post(std::vector<BlockLodRequest>& requests) {
 }
 
 bool BlockLodLoader::collect(std::vector<LoadedBlockLod>& finished) {
-  std::unique_lock lock(m_mutex, std::try_to_lock);
-  if (!lock.owns_lock()) return false;
-  m_finished.swap(finished);
+  {
+    std::unique_lock lock(m_mutex, std::try_to_lock);
+    if (!lock.owns_lock()) return false;
+    m_finished.swap(finished);
+  }
+  if (!finished.empty()) m_wake.notify_all();  // room again under maxHeld
   return true;
 }
 
@@ -65,7 +68,7 @@ bool BlockLodLoader::nextAvailable() {
                        [&](const LoadedBlockLod& done) { return done.node == node; });
   };
   while (m_next < m_pending.size() && taken(m_pending[m_next].node)) ++m_next;
-  return m_next < m_pending.size();
+  return m_next < m_pending.size() && m_building.size() + m_finished.size() < m_maxHeld;
 }
 
 void BlockLodLoader::work() {

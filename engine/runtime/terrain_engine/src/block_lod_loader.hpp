@@ -48,8 +48,10 @@ class BlockLodLoader {
   using Build = std::function<Result<ResidentBlock>(const terrain::NodeId&)>;
 
   // `threads`: how many builds run at once (at least one). `reserve`: the most requests one
-  // post carries (more are dropped, least wanted first).
-  BlockLodLoader(int threads, Build build, std::size_t reserve);
+  // post carries (more are dropped, least wanted first). `maxHeld`: the most blocks built or
+  // being built and not yet collected (at least `threads`): what a frame thread that is
+  // slow to collect, or that turns blocks away, can leave in memory.
+  BlockLodLoader(int threads, Build build, std::size_t reserve, std::size_t maxHeld);
   // Stops taking requests, waits for the builds under way and ends the threads.
   ~BlockLodLoader();
   BlockLodLoader(const BlockLodLoader&) = delete;
@@ -63,19 +65,20 @@ class BlockLodLoader {
   // a worker held the hand-off.
   bool collect(std::vector<LoadedBlockLod>& finished);
 
-  // Blocks until no build is pending or under way: for single pictures and tests, never in
-  // a frame.
+  // Blocks until no build is under way and none pending can start (none left, or maxHeld
+  // held): for single pictures and tests, never in a frame.
   void waitIdle();
   bool idle() const;
 
  private:
   void work();
   // Under m_mutex: moves m_next past requests already built or being built; true when one
-  // is left to take.
+  // is left to take and fewer than maxHeld are held.
   bool nextAvailable();
 
   Build m_build;
   std::size_t m_reserve;
+  std::size_t m_maxHeld;
 
   mutable std::mutex m_mutex;
   std::condition_variable m_wake;          // work posted, or stopping
