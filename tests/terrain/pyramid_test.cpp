@@ -80,6 +80,17 @@ std::string name(const NodeId& n) {
   return "node " + std::to_string(n.level) + "/" + std::to_string(n.bx) + "/" + std::to_string(n.by);
 }
 
+// f(node, tile) for every node whose tile reads; a tile that does not read fails the test.
+template <class F>
+void forEachTile(const Pyramid& pyramid, F&& f) {
+  PyramidTile tile;
+  forEachNode(pyramid.layout(), [&](const NodeId& node) {
+    const Status read = pyramid.readTile(node, tile);
+    EXPECT_TRUE(read.ok()) << name(node) << ": " << (read.ok() ? "" : read.error().message);
+    if (read.ok()) f(node, tile);
+  });
+}
+
 TEST(Pyramid, NodesAgreeWithTheQuadtreeOfTheWholeField) {
   const Heightfield field = makeField(301, 219, 11);
   TempFolder folder;
@@ -156,10 +167,8 @@ TEST(Pyramid, EachCellsResidualBoundsTheFullResolutionOverIt) {
   auto pyramid = openOrFail(buildOrFail(field, folder.path() / "cells.pyr"));
   ASSERT_NE(pyramid, nullptr);
   const BlockLayout& layout = pyramid->layout();
-  PyramidTile tile;
   std::size_t cells = 0, wellBelow = 0;
-  forEachNode(layout, [&](const NodeId& node) {
-    ASSERT_TRUE(pyramid->readTile(node, tile).ok()) << name(node);
+  forEachTile(*pyramid, [&](const NodeId& node, const PyramidTile& tile) {
     const int w = tile.samples.width - 1, h = tile.samples.height - 1;
     ASSERT_EQ(tile.cellResidual.size(), std::size_t(std::max(w, 0)) * std::size_t(std::max(h, 0))) << name(node);
     const SampleRect area = layout.footprint(node);
@@ -194,11 +203,9 @@ TEST(Pyramid, ATilesHierarchyBoundsTheFullResolutionVertexByVertex) {
   auto pyramid = openOrFail(buildOrFail(field, folder.path() / "lod.pyr"));
   ASSERT_NE(pyramid, nullptr);
   const BlockLayout& layout = pyramid->layout();
-  PyramidTile tile;
   std::size_t vertices = 0, tighter = 0;
-  forEachNode(layout, [&](const NodeId& node) {
+  forEachTile(*pyramid, [&](const NodeId& node, const PyramidTile& tile) {
     if (node.level == 0) return;
-    ASSERT_TRUE(pyramid->readTile(node, tile).ok()) << name(node);
     const BlockFootprint fp = layout.interior(node);
     auto exact = BlockLod::build(field, fp);
     if (!exact) return;  // no whole cell inside the DEM at this stride
@@ -224,9 +231,7 @@ TEST(Pyramid, TilesHoldTheStridedSamplesOfTheirFootprint) {
   auto pyramid = openOrFail(buildOrFail(field, folder.path() / "t.pyr"));
   ASSERT_NE(pyramid, nullptr);
   const BlockLayout& layout = pyramid->layout();
-  PyramidTile tile;
-  forEachNode(layout, [&](const NodeId& node) {
-    ASSERT_TRUE(pyramid->readTile(node, tile).ok()) << name(node);
+  forEachTile(*pyramid, [&](const NodeId& node, const PyramidTile& tile) {
     const SampleRect area = layout.footprint(node);
     const int s = layout.stride(node);
     EXPECT_EQ(tile.node, node);

@@ -5,12 +5,12 @@
 
 namespace polder {
 
-BlockLodLoader::BlockLodLoader(int threads, Build build, std::size_t reserve, std::size_t maxHeld)
-    : m_build(std::move(build)), m_reserve(reserve), m_maxHeld(std::max(maxHeld, std::size_t(std::max(threads, 1)))) {
+BlockLodLoader::BlockLodLoader(int threads, Build build, std::size_t reserve, std::size_t maxHeldBytes)
+    : m_build(std::move(build)), m_reserve(reserve), m_maxHeldBytes(maxHeldBytes) {
   threads = std::max(threads, 1);
   m_pending.reserve(reserve);
   m_building.reserve(std::size_t(threads));
-  m_finished.reserve(m_maxHeld);
+  m_finished.reserve(reserve);
   m_threads.reserve(std::size_t(threads));
   for (int i = 0; i < threads; ++i) m_threads.emplace_back([this] { work(); });
 }
@@ -44,8 +44,9 @@ bool BlockLodLoader::collect(std::vector<LoadedBlockLod>& finished) {
     std::unique_lock lock(m_mutex, std::try_to_lock);
     if (!lock.owns_lock()) return false;
     m_finished.swap(finished);
+    m_finishedBytes = 0;
   }
-  if (!finished.empty()) m_wake.notify_all();  // room again under maxHeld
+  if (!finished.empty()) m_wake.notify_all();  // room again under maxHeldBytes
   return true;
 }
 
@@ -68,7 +69,7 @@ bool BlockLodLoader::nextAvailable() {
                        [&](const LoadedBlockLod& done) { return done.node == node; });
   };
   while (m_next < m_pending.size() && taken(m_pending[m_next].node)) ++m_next;
-  return m_next < m_pending.size() && m_building.size() + m_finished.size() < m_maxHeld;
+  return m_next < m_pending.size() && m_finishedBytes < m_maxHeldBytes;
 }
 
 void BlockLodLoader::work() {
@@ -94,8 +95,11 @@ void BlockLodLoader::work() {
     }
     loaded.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
+    const std::size_t bytes = loaded.lod ? loaded.lod->memoryBytes() : 0;
+
     lock.lock();
     m_building.erase(std::find(m_building.begin(), m_building.end(), node));
+    m_finishedBytes += bytes;
     m_finished.push_back(std::move(loaded));
     m_changed.notify_all();
   }

@@ -48,10 +48,11 @@ class BlockLodLoader {
   using Build = std::function<Result<ResidentBlock>(const terrain::NodeId&)>;
 
   // `threads`: how many builds run at once (at least one). `reserve`: the most requests one
-  // post carries (more are dropped, least wanted first). `maxHeld`: the most blocks built or
-  // being built and not yet collected (at least `threads`): what a frame thread that is
-  // slow to collect, or that turns blocks away, can leave in memory.
-  BlockLodLoader(int threads, Build build, std::size_t reserve, std::size_t maxHeld);
+  // post carries (more are dropped, least wanted first). `maxHeldBytes`: no build starts while
+  // the finished builds not yet collected hold that many bytes (ResidentBlock::memoryBytes),
+  // so that a frame thread slow to collect, or one that turns blocks away, leaves at most
+  // that plus the builds under way in memory.
+  BlockLodLoader(int threads, Build build, std::size_t reserve, std::size_t maxHeldBytes);
   // Stops taking requests, waits for the builds under way and ends the threads.
   ~BlockLodLoader();
   BlockLodLoader(const BlockLodLoader&) = delete;
@@ -65,20 +66,20 @@ class BlockLodLoader {
   // a worker held the hand-off.
   bool collect(std::vector<LoadedBlockLod>& finished);
 
-  // Blocks until no build is under way and none pending can start (none left, or maxHeld
-  // held): for single pictures and tests, never in a frame.
+  // Blocks until no build is under way and none pending can start (none left, or
+  // maxHeldBytes held): for single pictures and tests, never in a frame.
   void waitIdle();
   bool idle() const;
 
  private:
   void work();
   // Under m_mutex: moves m_next past requests already built or being built; true when one
-  // is left to take and fewer than maxHeld are held.
+  // is left to take and the finished builds hold less than maxHeldBytes.
   bool nextAvailable();
 
   Build m_build;
   std::size_t m_reserve;
-  std::size_t m_maxHeld;
+  std::size_t m_maxHeldBytes;
 
   mutable std::mutex m_mutex;
   std::condition_variable m_wake;          // work posted, or stopping
@@ -87,6 +88,7 @@ class BlockLodLoader {
   std::size_t m_next = 0;                  // first request of m_pending not yet taken
   std::vector<terrain::NodeId> m_building;
   std::vector<LoadedBlockLod> m_finished;
+  std::size_t m_finishedBytes = 0;
   bool m_stopping = false;
   std::vector<std::thread> m_threads;  // last: they start once the rest is made
 };

@@ -5,21 +5,19 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <vector>
 
-#include <polder/terrain/heightfield.hpp>
+#include <polder/terrain/pyramid.hpp>
 #include <polder/terrain/rtin.hpp>
 
 namespace polder {
 
 struct ResidentBlock {
   terrain::BlockLod lod;
-  terrain::Heightfield tile;          // empty when the engine's source is a heightfield
-  std::vector<float> tileResidual;    // the tile's cells' residuals (PyramidTile::cellResidual)
+  terrain::PyramidTile tile;          // empty when the engine's source is a heightfield
   std::uint64_t lastNeededFrame = 0;  // the last frame whose selection or meshes used it
 
   std::size_t memoryBytes() const {
-    return lod.memoryBytes() + (tile.heights.capacity() + tileResidual.capacity()) * sizeof(float);
+    return lod.memoryBytes() + (tile.samples.heights.capacity() + tile.cellResidual.capacity()) * sizeof(float);
   }
 };
 

@@ -63,6 +63,9 @@ std::string megabytes(std::size_t bytes) {
   return text;
 }
 
+// The least the loaders may hold of built blocks not yet collected (see Impl's loader).
+constexpr std::size_t kLeastHeldBuildBytes = std::size_t(16) << 20;
+
 cache::LodCacheOptions cacheOptions(const TerrainEngineOptions& options) {
   cache::LodCacheOptions cache;
   cache.budgetBytes = options.cacheBytes;
@@ -71,14 +74,6 @@ cache::LodCacheOptions cacheOptions(const TerrainEngineOptions& options) {
   // so frames land close to the budget.
   cache.countHysteresis = 0.02;
   return cache;
-}
-
-// About what one resident block holds at 2^k + 1 samples a side: its hierarchy's heights,
-// errors, radii and triangle errors, its half cells' errors, and a pyramid tile with its
-// cells' residuals.
-std::size_t estimatedBlockBytes(int k) {
-  const std::size_t side = (std::size_t(1) << k) + 1;
-  return sizeof(float) * (side * side * 6 + 2 * (side - 1) * (side - 1) + (side + 1) * (side + 1));
 }
 
 }  // namespace
@@ -99,10 +94,6 @@ struct TerrainEngine::Impl {
   // never evicted: the cut falls back to it at worst, so it never has a hole.
   cache::LruCache<std::uint64_t, ResidentBlock> lods;
   std::size_t lodBudgetBytes = 0;
-  // With one memory budget (TerrainEngineOptions::memoryBudgetBytes): the bytes it leaves for
-  // the hierarchies and the LOD cache together, shared between them frame by frame
-  // (shareBlockData); 0 when each has its own.
-  std::size_t sharedBlockDataBytes = 0;
   std::unique_ptr<ResidentBlock> root;
   std::unordered_set<std::uint64_t> failedNodes;  // loads that failed: never asked for again
   std::unique_ptr<BlockLodLoader> loader;         // BlockLoading::Background
@@ -168,7 +159,6 @@ struct TerrainEngine::Impl {
         pool(std::move(p)),
         lods(o.lodDataBytes),
         lodBudgetBytes(o.lodDataBytes),
-        sharedBlockDataBytes(o.memoryBudgetBytes > 0 ? o.lodDataBytes + o.cacheBytes : 0),
         meshes(cacheOptions(o)),
         dikes(layout),
         cutIndex(layout),
@@ -211,13 +201,12 @@ struct TerrainEngine::Impl {
       arrived.reserve(most);
       // One core is the frame's; the rest build.
       loaderThreads = std::max(pool->threadCount() - 1, 1);
-      // Built blocks wait outside the budget until a frame takes them: at most an eighth of
-      // the hierarchies' budget of them (a budget full of needs turns them away).
-      const std::size_t blockBytes = estimatedBlockBytes(layout.k());
-      const std::size_t maxHeld =
-          std::max<std::size_t>(2 * std::size_t(loaderThreads), o.lodDataBytes / 8 / blockBytes);
+      // Built blocks wait outside the budget until a frame takes them (a budget full of needs
+      // turns them away): at most an eighth of the hierarchies' budget of them, and no less
+      // than kLeastHeldBuildBytes, so that a small budget still fills within a few frames.
       loader = std::make_unique<BlockLodLoader>(
-          loaderThreads, [this](const terrain::NodeId& node) { return buildBlock(node); }, most, maxHeld);
+          loaderThreads, [this](const terrain::NodeId& node) { return buildBlock(node); }, most,
+          std::max(o.lodDataBytes / 8, kLeastHeldBuildBytes));
     }
   }
   ~Impl() { loader.reset(); }  // the workers' builds read the source
@@ -237,8 +226,7 @@ struct TerrainEngine::Impl {
     auto lod = terrain::BlockLod::buildFromLevel(tile.samples, layout.interior(node), tile.cellResidual);
     if (!lod) return lod.error();
     block.lod = std::move(*lod);
-    block.tile = std::move(tile.samples);
-    block.tileResidual = std::move(tile.cellResidual);
+    block.tile = std::move(tile);
     return block;
   }
 
@@ -283,7 +271,7 @@ struct TerrainEngine::Impl {
     const ResidentBlock* block = node == layout.root() ? root.get() : lods.peek(terrain::nodeKey(node));
     if (!block) return SampleGrid{};
     const terrain::SampleRect footprint = layout.footprint(node);
-    return SampleGrid{&block->tile, footprint.x0, footprint.y0, layout.stride(node), block->tileResidual};
+    return SampleGrid{&block->tile.samples, footprint.x0, footprint.y0, layout.stride(node), block->tile.cellResidual};
   }
 
   bool drawable(const terrain::NodeId& node) const { return std::isfinite(quadtree.info(node).floorDelta()); }
@@ -302,26 +290,6 @@ struct TerrainEngine::Impl {
   }
 
   // The resident error hierarchies, the root's included.
-  // One budget for hierarchies and meshes: the hierarchies may take what the LOD cache leaves,
-  // less a reserve for the cache to grow by a quarter (at least a quarter of the whole), and
-  // never lose what they hold to it; the cache then gets the rest. Both are set on the frame
-  // thread between the cache's frames, so the two never hold more than the budget together
-  // (but for the meshes a frame draws, which the cache keeps over its budget).
-  // (Immediate mode, which builds within the frame, keeps the even split.)
-  void shareBlockDataBeforeLoads() {
-    if (sharedBlockDataBytes == 0 || !loader) return;
-    const std::size_t cacheReserve =
-        std::min(std::max(meshes.bytes() + meshes.bytes() / 4, sharedBlockDataBytes / 4), sharedBlockDataBytes);
-    const std::size_t rootBytes = root ? root->memoryBytes() : 0;
-    const std::size_t left = sharedBlockDataBytes - cacheReserve;
-    lods.setBudget(std::max(lods.bytes(), left > rootBytes ? left - rootBytes : 0));
-    lodBudgetBytes = lods.budgetBytes() + rootBytes;
-  }
-  void shareBlockDataAfterLoads() {
-    if (sharedBlockDataBytes == 0 || !loader) return;
-    meshes.setBudget(sharedBlockDataBytes - std::min(residentLodBytes(), sharedBlockDataBytes));
-  }
-
   std::size_t residentLodBytes() const { return lods.bytes() + (root ? root->memoryBytes() : 0); }
 
   // Takes in what the loaders finished since the last frame.
@@ -718,9 +686,7 @@ std::span<const lod::RegionDemand> TerrainEngine::beginFrame(const Camera& camer
   s.expireForcedSplits(camera);
   ++s.frameNumber;
   const auto start = Clock::now();
-  s.shareBlockDataBeforeLoads();
   s.collectLoads(s.frameStats);
-  s.shareBlockDataAfterLoads();
   s.select(camera);
   s.requestLoads(camera, s.frameStats);
   if (s.options.mode == LodMode::TriangleBudget) s.prepareBudget(camera);

@@ -69,11 +69,9 @@ struct TerrainEngineOptions {
   std::size_t lodDataBytes = std::size_t(128) << 20;
   // One budget for what the engine holds, when non-zero: the height source (the heightfield,
   // or the pyramid's node table and borders) and the quadtree count first, and what they
-  // leave is shared by the resident error hierarchies and the LOD cache, in place of
-  // lodDataBytes and cacheBytes: each frame the hierarchies may take what the cache does not
-  // use, less a reserve for it to grow (at least a quarter), and the cache gets the rest
-  // (split evenly instead with BlockLoading::Immediate).
-  // create() refuses a budget that leaves less than kLeastBlockMemoryBytes for them.
+  // leave is split evenly between the resident error hierarchies and the LOD cache, in place
+  // of lodDataBytes and cacheBytes. create() refuses a budget that leaves less than
+  // kLeastBlockMemoryBytes for them.
   std::size_t memoryBudgetBytes = 0;
 };
 
